@@ -1,0 +1,96 @@
+// The renderer as the application sees it: options in, an image and statistics out, with the
+// same entry point on each backend. Backends implement RenderCpu / RenderCuda.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "src/scene/scene.h"
+
+namespace pt {
+
+enum class BackendKind { kAuto, kCpu, kCuda };
+enum class Toggle { kAuto, kOff, kOn };
+enum class SortMode { kAuto, kOff, kMaterial };
+enum class IntegratorMode { kMis, kBsdf, kNee };
+
+struct CropWindow {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1); empty = whole image
+  bool Empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
+struct RenderOptions {
+  BackendKind backend = BackendKind::kAuto;
+  int threads = 0;  // CPU threads, 0 = all cores
+  Toggle compact = Toggle::kAuto;
+  SortMode sort = SortMode::kAuto;
+  IntegratorMode integrator = IntegratorMode::kMis;
+  CropWindow crop;
+  double timeLimitSeconds = 0.0;     // <= 0: none
+  double previewEverySeconds = 0.0;  // <= 0: none
+  const std::vector<float>* reference = nullptr;  // linear RGB of the crop/image size, or null
+  size_t maxPathsInFlight = 0;       // 0: the backend's default
+};
+
+// The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
+struct FilmImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;       // mean, 3 floats per pixel, rows top to bottom
+  std::vector<float> variance;  // per-channel sample variance, 3 floats per pixel
+  std::vector<uint32_t> samples;
+};
+
+struct StageTimes {
+  double generate = 0, intersect = 0, sort = 0, shade = 0, shadow = 0, compact = 0,
+         accumulate = 0;
+};
+
+struct RenderStats {
+  std::string backend, device;
+  int threads = 0;
+  double renderMs = 0.0, uploadMs = 0.0;
+  StageTimes stages;  // milliseconds
+  uint64_t samples = 0;
+  double sppMean = 0.0;
+  uint64_t cameraRays = 0, extensionRays = 0, shadowRays = 0;
+  uint64_t nodesVisited = 0, primsTested = 0, traversals = 0;
+  uint64_t nonfiniteSamples = 0;
+  size_t pathStateBytesPerPath = 0, pathsInFlight = 0, peakDeviceBytes = 0;
+  bool interrupted = false;
+  bool compactUsed = false;
+  bool sortUsed = false;
+  std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
+};
+
+struct RenderCallbacks {
+  std::function<bool()> shouldStop;                     // polled between waves (Ctrl-C)
+  std::function<void(const FilmImage&)> onPreview;      // every previewEverySeconds
+  std::function<void(uint64_t done, uint64_t total)> onProgress;
+};
+
+struct RenderResult {
+  FilmImage image;
+  RenderStats stats;
+};
+
+// A backend that cannot run here (not built, no GPU): exit status 3 in the app.
+struct BackendUnavailable : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+RenderResult RenderCpu(const Scene& scene, const RenderOptions& options,
+                       const RenderCallbacks& callbacks = {});
+RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
+                        const RenderCallbacks& callbacks = {});
+
+bool CudaBackendBuilt();
+int CudaDeviceCount();      // 0 when not built or no GPU
+std::string CudaDeviceName();
+
+// relMSE as the CLI contract defines it: mean((x - r)^2 / (r^2 + 1e-2)) over pixels, channels.
+double RelMse(const std::vector<float>& image, const std::vector<float>& reference);
+
+}  // namespace pt

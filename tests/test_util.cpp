@@ -1,0 +1,47 @@
+#include "tests/test_util.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+
+namespace pt::test {
+
+std::string SourcePath(const std::string& relative) {
+  return std::string(PT_SOURCE_DIR) + "/" + relative;
+}
+std::string SharedPath(const std::string& relative) {
+  return std::string(PT_SHARED_DIR) + "/" + relative;
+}
+bool HaveShared() { return std::filesystem::exists(PT_SHARED_DIR "/scene-format.md"); }
+std::string BinaryPath(const std::string& relative) {
+  return std::string(PT_BINARY_DIR) + "/" + relative;
+}
+
+std::string TempDir() {
+  static std::atomic<int> counter{0};
+  auto dir = std::filesystem::temp_directory_path() /
+             ("pt_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+int RunCommand(const std::string& command, std::string* output) {
+  std::string full = command + " 2>&1";
+  FILE* pipe = popen(full.c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buffer;
+  std::string text;
+  while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) text.append(buffer.data(), n);
+  int status = pclose(pipe);
+  if (output) *output = text;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+}  // namespace pt::test
