@@ -1,0 +1,89 @@
+// The CPU backend: host memory, and stage bodies run in loops on a thread pool. No rendering
+// logic lives here; it only supplies what WavefrontIntegrator asks of a backend.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "cpu_backend/thread_pool.h"
+#include "src/integrator/stage_id.h"
+
+namespace pt {
+
+class CpuBackend {
+ public:
+  template <typename T>
+  class Buffer {
+   public:
+    void Resize(size_t n) { data_.resize(n); }
+    void Upload(const std::vector<T>& src) { data_ = src; }
+    void Download(std::vector<T>& dst) const { dst = data_; }
+    void Zero() { std::fill(data_.begin(), data_.end(), T{}); }
+    T* Data() { return data_.empty() ? nullptr : data_.data(); }
+    const T* Data() const { return data_.empty() ? nullptr : data_.data(); }
+    size_t Size() const { return data_.size(); }
+    size_t Bytes() const { return data_.size() * sizeof(T); }
+
+   private:
+    std::vector<T> data_;
+  };
+
+  explicit CpuBackend(int threads) : pool_(threads) {}
+
+  // Paths in flight: enough to keep every core busy, few enough that path state stays
+  // near the caches.
+  size_t DefaultPathsInFlight() const { return size_t(1) << 16; }
+
+  template <typename F>
+  void ParallelFor(Stage stage, uint32_t n, const F& body) {
+    auto t0 = Clock::now();
+    pool_.Run(n, [&body](uint32_t begin, uint32_t end) {
+      for (uint32_t i = begin; i < end; ++i) body(i);
+    });
+    AddTime(stage, t0);
+  }
+
+  // Keeps the queue entries for which keep(id) holds, in order; returns how many.
+  template <typename Pred>
+  uint32_t Partition(Stage stage, uint32_t* queue, uint32_t n, const Pred& keep) {
+    auto t0 = Clock::now();
+    uint32_t* end = std::stable_partition(queue, queue + n, keep);
+    AddTime(stage, t0);
+    return uint32_t(end - queue);
+  }
+
+  template <typename Pred>
+  uint32_t CountIf(Stage stage, const uint32_t* queue, uint32_t n, const Pred& pred) {
+    auto t0 = Clock::now();
+    uint32_t count = uint32_t(std::count_if(queue, queue + n, pred));
+    AddTime(stage, t0);
+    return count;
+  }
+
+  // Stable sort of the queue by key (keys are per queue slot and are permuted alongside).
+  void SortByKey(Stage stage, uint32_t* keys, uint32_t* queue, uint32_t n);
+  size_t SortScratchBytesPerPath(bool sorting) const { return sorting ? 8 : 0; }
+
+  void Synchronize() {}
+  StageTimes Times() const { return times_; }
+  std::string Name() const { return "cpu"; }
+  std::string DeviceName() const;
+  int ThreadCount() const { return pool_.Size(); }
+  size_t PeakBytes() const { return 0; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void AddTime(Stage stage, Clock::time_point t0) {
+    StageTime(times_, stage) +=
+        std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  }
+
+  ThreadPool pool_;
+  StageTimes times_;
+  std::vector<uint64_t> sortScratch_;
+};
+
+}  // namespace pt

@@ -1,0 +1,68 @@
+// Device memory with the Buffer interface WavefrontIntegrator expects. Plain cudaMalloc
+// (never managed memory); peak usage is tracked for the statistics.
+#pragma once
+
+#include <atomic>
+#include <utility>
+#include <vector>
+
+#include "cuda/cuda_check.cuh"
+
+namespace pt {
+
+struct DeviceMemoryTracker {
+  static inline std::atomic<size_t> current{0}, peak{0};
+  static void Add(size_t bytes) {
+    size_t now = current += bytes;
+    size_t p = peak.load();
+    while (now > p && !peak.compare_exchange_weak(p, now)) {}
+  }
+  static void Remove(size_t bytes) { current -= bytes; }
+};
+
+template <typename T>
+class DeviceBuffer {
+ public:
+  DeviceBuffer() = default;
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  ~DeviceBuffer() { Free(); }
+
+  void Resize(size_t n) {
+    if (n == size_) return;
+    Free();
+    if (n == 0) return;
+    CudaCheck(cudaMalloc(&data_, n * sizeof(T)), "cudaMalloc");
+    size_ = n;
+    DeviceMemoryTracker::Add(Bytes());
+  }
+  void Upload(const std::vector<T>& src) {
+    Resize(src.size());
+    if (size_) CudaCheck(cudaMemcpy(data_, src.data(), Bytes(), cudaMemcpyHostToDevice), "upload");
+  }
+  void Download(std::vector<T>& dst) const {
+    dst.resize(size_);
+    if (size_) CudaCheck(cudaMemcpy(dst.data(), data_, Bytes(), cudaMemcpyDeviceToHost), "download");
+  }
+  void Zero() {
+    if (size_) CudaCheck(cudaMemset(data_, 0, Bytes()), "cudaMemset");
+  }
+  T* Data() { return data_; }
+  const T* Data() const { return data_; }
+  size_t Size() const { return size_; }
+  size_t Bytes() const { return size_ * sizeof(T); }
+
+ private:
+  void Free() {
+    if (data_) {
+      cudaFree(data_);
+      DeviceMemoryTracker::Remove(Bytes());
+    }
+    data_ = nullptr;
+    size_ = 0;
+  }
+  T* data_ = nullptr;
+  size_t size_ = 0;
+};
+
+}  // namespace pt

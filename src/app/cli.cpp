@@ -1,0 +1,354 @@
+#include "src/app/cli.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <utility>
+
+#include "src/io/image_io.h"
+
+namespace pt {
+namespace {
+
+constexpr int kMaxImageSide = 1 << 16;
+constexpr int64_t kMaxImagePixels = int64_t(1) << 28;
+constexpr int kIntMax = std::numeric_limits<int>::max();
+
+// The tokens after one option: its `=value`, or the next arguments.
+class ValueSource {
+ public:
+  ValueSource(std::string option, std::optional<std::string> inlineValue,
+              const std::vector<std::string>& args, size_t* next)
+      : option_(std::move(option)), inline_(std::move(inlineValue)), args_(args), next_(next) {}
+
+  const std::string& Option() const { return option_; }
+  bool HasInline() const { return inline_.has_value(); }
+
+  // The option's value; a following `--option` is not taken as one.
+  std::string Take() {
+    if (inline_) return *std::exchange(inline_, std::nullopt);
+    if (*next_ >= args_.size() || args_[*next_].rfind("--", 0) == 0) {
+      throw CliError("missing value for " + option_);
+    }
+    return args_[(*next_)++];
+  }
+
+ private:
+  std::string option_;
+  std::optional<std::string> inline_;
+  const std::vector<std::string>& args_;
+  size_t* next_;
+};
+
+int64_t ParseInteger(const std::string& option, const std::string& text, int64_t lo,
+                     int64_t hi) {
+  int64_t value = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) {
+    throw CliError("bad number for " + option + ": '" + text + "'");
+  }
+  if (value < lo || value > hi) {
+    throw CliError(option + " must be between " + std::to_string(lo) + " and " +
+                   std::to_string(hi) + ", not " + text);
+  }
+  return value;
+}
+
+int ParseInt(ValueSource& src, int lo, int hi) {
+  return int(ParseInteger(src.Option(), src.Take(), lo, hi));
+}
+
+double ParsePositiveSeconds(ValueSource& src) {
+  std::string text = src.Take();
+  char* end = nullptr;
+  double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(value)) {
+    throw CliError("bad number for " + src.Option() + ": '" + text + "'");
+  }
+  if (value <= 0.0) throw CliError(src.Option() + " must be greater than 0, not " + text);
+  return value;
+}
+
+template <typename T>
+T ParseChoice(ValueSource& src, std::initializer_list<std::pair<const char*, T>> choices) {
+  std::string text = src.Take();
+  std::string names;
+  for (const auto& [name, value] : choices) {
+    if (text == name) return value;
+    names += names.empty() ? name : std::string("|") + name;
+  }
+  throw CliError("bad value for " + src.Option() + ": '" + text + "' (expected " + names + ")");
+}
+
+[[noreturn]] void NotBuilt(const std::string& what) {
+  throw CliError(what + " is not built yet");
+}
+
+// Values accepted for an option whose other values belong to a later feature.
+void AcceptOnly(ValueSource& src, const std::string& accepted,
+                std::initializer_list<const char*> later) {
+  std::string text = src.Take();
+  if (text == accepted) return;
+  for (const char* name : later) {
+    if (text == name) NotBuilt(src.Option() + " " + text);
+  }
+  throw CliError("bad value for " + src.Option() + ": '" + text + "'");
+}
+
+CropWindow ParseCrop(ValueSource& src) {
+  std::vector<std::string> parts;
+  std::string first = src.Take();
+  if (src.HasInline() || first.find(',') != std::string::npos) {
+    size_t start = 0;  // --crop=X0,Y0,X1,Y1
+    for (size_t comma; (comma = first.find(',', start)) != std::string::npos; start = comma + 1) {
+      parts.push_back(first.substr(start, comma - start));
+    }
+    parts.push_back(first.substr(start));
+  } else {
+    parts.push_back(first);
+    for (int i = 0; i < 3; ++i) parts.push_back(src.Take());
+  }
+  if (parts.size() != 4) throw CliError("--crop needs four numbers: X0 Y0 X1 Y1");
+  CropWindow crop;
+  crop.x0 = int(ParseInteger("--crop", parts[0], 0, kMaxImageSide));
+  crop.y0 = int(ParseInteger("--crop", parts[1], 0, kMaxImageSide));
+  crop.x1 = int(ParseInteger("--crop", parts[2], 0, kMaxImageSide));
+  crop.y1 = int(ParseInteger("--crop", parts[3], 0, kMaxImageSide));
+  if (crop.Empty()) throw CliError("--crop needs X0 < X1 and Y0 < Y1");
+  return crop;
+}
+
+std::string TakePath(ValueSource& src) {
+  std::string path = src.Take();
+  if (path.empty()) throw CliError("empty file name for " + src.Option());
+  return path;
+}
+
+using Handler = std::function<void(CliOptions&, ValueSource&)>;
+
+const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
+  static const std::vector<std::pair<std::string, Handler>> table = {
+      {"-o", [](CliOptions& o, ValueSource& s) { o.outputPath = TakePath(s); }},
+      {"--hdr", [](CliOptions& o, ValueSource& s) { o.hdrPath = TakePath(s); }},
+      {"--reference", [](CliOptions& o, ValueSource& s) { o.referencePath = TakePath(s); }},
+      {"--stats-json", [](CliOptions& o, ValueSource& s) { o.statsJsonPath = TakePath(s); }},
+      {"--spp", [](CliOptions& o, ValueSource& s) { o.spp = ParseInt(s, 1, kIntMax); }},
+      {"--width", [](CliOptions& o, ValueSource& s) { o.width = ParseInt(s, 1, kMaxImageSide); }},
+      {"--height",
+       [](CliOptions& o, ValueSource& s) { o.height = ParseInt(s, 1, kMaxImageSide); }},
+      {"--max-depth", [](CliOptions& o, ValueSource& s) { o.maxDepth = ParseInt(s, 0, 1 << 16); }},
+      {"--seed",
+       [](CliOptions& o, ValueSource& s) {
+         o.seed = uint32_t(ParseInteger(s.Option(), s.Take(), 0, UINT32_MAX));
+       }},
+      {"--rr-depth",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         o.rrDepth = text == "off" ? kRussianRouletteOff
+                                   : int(ParseInteger(s.Option(), text, 0, 1 << 16));
+       }},
+      {"--backend",
+       [](CliOptions& o, ValueSource& s) {
+         o.backend = ParseChoice<BackendKind>(
+             s, {{"auto", BackendKind::kAuto}, {"cpu", BackendKind::kCpu},
+                 {"cuda", BackendKind::kCuda}});
+       }},
+      {"--threads", [](CliOptions& o, ValueSource& s) { o.threads = ParseInt(s, 0, 1 << 16); }},
+      {"--compact",
+       [](CliOptions& o, ValueSource& s) {
+         o.compact = ParseChoice<Toggle>(
+             s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
+       }},
+      {"--sort",
+       [](CliOptions& o, ValueSource& s) {
+         std::optional<SortMode> mode = ParseChoice<std::optional<SortMode>>(
+             s, {{"off", SortMode::kOff}, {"material", SortMode::kMaterial},
+                 {"queues", std::nullopt}, {"auto", SortMode::kAuto}});
+         if (!mode) NotBuilt("--sort queues");
+         o.sort = *mode;
+       }},
+      {"--integrator",
+       [](CliOptions& o, ValueSource& s) {
+         o.integrator = ParseChoice<IntegratorMode>(
+             s, {{"mis", IntegratorMode::kMis}, {"bsdf", IntegratorMode::kBsdf},
+                 {"nee", IntegratorMode::kNee}});
+       }},
+      {"--time-limit",
+       [](CliOptions& o, ValueSource& s) { o.timeLimitSeconds = ParsePositiveSeconds(s); }},
+      {"--preview-every",
+       [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
+      {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+  };
+  return table;
+}
+
+// Options of later features: checked for a well-formed value, then refused or accepted.
+const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
+  static const std::vector<std::pair<std::string, Handler>> table = {
+      {"--adaptive",
+       [](CliOptions&, ValueSource& s) {
+         std::string text = ParseChoice<std::string>(s, {{"on", "on"}, {"off", "off"}});
+         NotBuilt("--adaptive " + text + ": adaptive sampling");
+       }},
+      {"--spp-map",
+       [](CliOptions&, ValueSource& s) {
+         TakePath(s);
+         NotBuilt("--spp-map");
+       }},
+      {"--light-paths",
+       [](CliOptions&, ValueSource& s) {
+         std::string text = ParseChoice<std::string>(
+             s, {{"all", "all"}, {"direct", "direct"}, {"indirect", "indirect"}});
+         NotBuilt("--light-paths " + text);
+       }},
+      {"--tri-test", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "watertight", {"mt"}); }},
+      {"--film", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "float", {"double"}); }},
+      {"--specialize", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "on", {"off"}); }},
+      {"--ray-offset",
+       [](CliOptions&, ValueSource& s) {
+         std::string text = s.Take();
+         if (text == "robust") return;
+         char* end = nullptr;
+         double eps = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !(eps > 0.0) || !std::isfinite(eps)) {
+           throw CliError("bad value for --ray-offset: '" + text + "' (expected robust|EPS)");
+         }
+         NotBuilt("--ray-offset EPS (a fixed epsilon)");
+       }},
+  };
+  return table;
+}
+
+const Handler* FindHandler(const std::string& name) {
+  for (const auto* table : {&ValueOptions(), &LaterOptions()}) {
+    for (const auto& [option, handler] : *table) {
+      if (option == name) return &handler;
+    }
+  }
+  return nullptr;
+}
+
+// Flags that take no value; false when name is not one.
+bool ApplyFlag(const std::string& name, CliOptions* options) {
+  if (name == "--quiet") options->quiet = true;
+  else if (name == "--help" || name == "-h") options->help = true;
+  else if (name == "--version") options->version = true;
+  else return false;
+  return true;
+}
+
+void ParseOption(const std::string& token, const std::vector<std::string>& args, size_t* next,
+                 CliOptions* options) {
+  size_t eq = token.find('=');
+  std::string name = token.substr(0, eq);
+  std::optional<std::string> inlineValue;
+  if (eq != std::string::npos) inlineValue = token.substr(eq + 1);
+  if (ApplyFlag(name, options)) {
+    if (inlineValue) throw CliError(name + " takes no value");
+    return;
+  }
+  const Handler* handler = FindHandler(name);
+  if (!handler) throw CliError("unknown option " + name);
+  ValueSource source(name, inlineValue, args, next);
+  (*handler)(*options, source);
+}
+
+void CheckExtension(const std::string& option, const std::string& path, bool allowPng) {
+  ImageFormat format;
+  if (!ImageFormatFromPath(path, &format) || (!allowPng && format == ImageFormat::kPng)) {
+    throw CliError(option + " " + path + ": unknown image format (use " +
+                   (allowPng ? ".png, " : "") + ".exr or .pfm)");
+  }
+}
+
+void CheckRequired(const CliOptions& options) {
+  if (options.scenePath.empty()) throw CliError("missing the scene file (SCENE.json)");
+  if (options.outputPath.empty()) throw CliError("missing -o FILE");
+  CheckExtension("-o", options.outputPath, true);
+  if (!options.hdrPath.empty()) CheckExtension("--hdr", options.hdrPath, false);
+  if (!options.referencePath.empty()) {
+    CheckExtension("--reference", options.referencePath, false);
+  }
+}
+
+}  // namespace
+
+CliOptions ParseCli(int argc, const char* const* argv) {
+  std::vector<std::string> args(argv + std::min(argc, 1), argv + argc);
+  CliOptions options;
+  bool optionsEnded = false;
+  for (size_t next = 0; next < args.size();) {
+    const std::string& token = args[next++];
+    bool isOption = !optionsEnded && token.size() > 1 && token[0] == '-';
+    if (isOption && token == "--") {
+      optionsEnded = true;
+    } else if (isOption) {
+      ParseOption(token, args, &next, &options);
+    } else if (options.scenePath.empty()) {
+      options.scenePath = token;
+    } else {
+      throw CliError("unexpected argument '" + token + "' (one scene file only)");
+    }
+  }
+  if (!options.help && !options.version) CheckRequired(options);
+  return options;
+}
+
+std::string CliUsage() {
+  return R"(usage: pathtracer SCENE.json -o OUT [options]
+
+Renders SCENE.json (see scene-format.md) to OUT (.png sRGB; .exr or .pfm linear).
+Options take `--flag V` or `--flag=V`; they override the scene's values.
+
+  -o FILE                  the image (required)
+  --hdr FILE               also a linear .exr (with variance and sample channels) or .pfm
+  --spp N                  samples per pixel
+  --width W, --height H    image size in pixels
+  --max-depth D            most bounces a path may take
+  --seed S                 random seed (0..4294967295)
+  --rr-depth N|off         Russian roulette from bounce N, or never
+  --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)
+  --threads N              CPU threads, 0 = all cores (default 0)
+  --compact on|off|auto    stream compaction of finished paths (default auto)
+  --sort off|material|auto order live paths by material before shading (default auto)
+  --integrator mis|bsdf|nee  light transport estimator (default mis)
+  --reference FILE         log relMSE against this .exr/.pfm image into the stats
+  --time-limit SECONDS     stop after this much render time, write what has accumulated
+  --preview-every SECONDS  rewrite the outputs as samples accumulate
+  --crop X0 Y0 X1 Y1       render only this pixel window [X0,X1) x [Y0,Y1)
+  --stats-json FILE        write render statistics as JSON
+  --quiet                  no progress bar (shown only when stderr is a terminal anyway)
+  --help, --version
+
+Accepted but fixed for now: --tri-test watertight, --ray-offset robust, --film float,
+--specialize on. Not built yet (refused): --adaptive, --spp-map, --light-paths,
+--sort queues, --tri-test mt, --ray-offset EPS, --film double, --specialize off.
+
+Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
+3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).
+)";
+}
+
+void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {
+  if (cli.spp) settings->spp = *cli.spp;
+  if (cli.width) settings->width = *cli.width;
+  if (cli.height) settings->height = *cli.height;
+  if (cli.maxDepth) settings->maxDepth = *cli.maxDepth;
+  if (cli.seed) settings->seed = *cli.seed;
+  if (cli.rrDepth) settings->russianRouletteDepth = *cli.rrDepth;
+  if (settings->width < 1 || settings->height < 1 ||
+      int64_t(settings->width) * settings->height > kMaxImagePixels) {
+    throw CliError("image size " + std::to_string(settings->width) + "x" +
+                   std::to_string(settings->height) + " is empty or too large");
+  }
+  if (settings->spp < 1) throw CliError("spp must be at least 1");
+  if (settings->maxDepth < 0) throw CliError("max depth must not be negative");
+  if (cli.crop && (cli.crop->x1 > settings->width || cli.crop->y1 > settings->height)) {
+    throw CliError("--crop window reaches outside the " + std::to_string(settings->width) +
+                   "x" + std::to_string(settings->height) + " image");
+  }
+}
+
+}  // namespace pt

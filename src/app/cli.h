@@ -1,0 +1,60 @@
+// The command line of ../shared/cli.md parsed into one struct. Both `--flag V` and `--flag=V`
+// are accepted; options of features not built yet are refused, never ignored.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "src/integrator/render_api.h"
+
+namespace pt {
+
+// A bad command line: exit status 1, the message on one line and a hint to --help.
+struct CliError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct CliOptions {
+  std::string scenePath;
+  std::string outputPath;     // -o
+  std::string hdrPath;        // --hdr, empty = none
+  std::string referencePath;  // --reference, empty = none
+  std::string statsJsonPath;  // --stats-json, empty = none
+
+  // Overrides of the scene's render settings; empty = keep the scene's.
+  std::optional<int> spp, width, height, maxDepth;
+  std::optional<uint32_t> seed;
+  std::optional<int> rrDepth;  // kRussianRouletteOff when --rr-depth off
+
+  BackendKind backend = BackendKind::kAuto;
+  int threads = 0;
+  Toggle compact = Toggle::kAuto;
+  SortMode sort = SortMode::kAuto;
+  IntegratorMode integrator = IntegratorMode::kMis;
+  double timeLimitSeconds = 0.0;     // 0 = none
+  double previewEverySeconds = 0.0;  // 0 = none
+  std::optional<CropWindow> crop;
+
+  bool quiet = false;
+  bool help = false;
+  bool version = false;
+};
+
+// `--rr-depth off`: a first roulette bounce no path ever reaches.
+inline constexpr int kRussianRouletteOff = 1 << 30;
+
+// Parses argv (argv[0] is the program). Throws CliError. With --help or --version set, the
+// other checks (scene, -o) are skipped.
+CliOptions ParseCli(int argc, const char* const* argv);
+
+// The text --help prints.
+std::string CliUsage();
+
+// Applies the overrides to settings and checks the result (image size, crop inside the
+// image); throws CliError when they do not fit.
+void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings);
+
+}  // namespace pt

@@ -1,0 +1,256 @@
+#include "src/app/run.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <new>
+#include <string>
+
+#include "src/app/cli.h"
+#include "src/app/progress.h"
+#include "src/app/stats_json.h"
+#include "src/io/image_io.h"
+#include "src/io/scene_loader.h"
+
+namespace pt {
+namespace {
+
+// A failure with its exit status; thrown by the steps below, caught once in RunApp.
+struct AppFailure {
+  int status;
+  std::string message;
+};
+
+std::atomic<bool> gInterrupted{false};
+
+// First Ctrl-C: stop after the current wave and write what has accumulated. Second: die.
+extern "C" void OnSigint(int) {
+  if (gInterrupted.exchange(true)) {
+    std::signal(SIGINT, SIG_DFL);
+    std::raise(SIGINT);
+    return;
+  }
+  const char message[] = "\npathtracer: interrupted; writing the image (Ctrl-C again to quit)\n";
+  ssize_t ignored = write(STDERR_FILENO, message, sizeof(message) - 1);
+  (void)ignored;
+}
+
+void InstallSigintHandler() {
+  struct sigaction action = {};
+  action.sa_handler = OnSigint;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+}
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void CheckOutputsWritable(const CliOptions& cli) {
+  for (const std::string* path : {&cli.outputPath, &cli.hdrPath, &cli.statsJsonPath}) {
+    std::string why;
+    if (!path->empty() && !CheckWritable(*path, &why)) {
+      throw AppFailure{kExitRuntimeFailure, "cannot write " + *path + ": " + why};
+    }
+  }
+}
+
+SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
+  Clock::time_point start = Clock::now();
+  SceneDesc desc;
+  try {
+    desc = LoadScene(cli.scenePath);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw AppFailure{kExitBadInput, e.what()};
+  }
+  *loadMs = MsSince(start);
+  try {
+    ApplyCliOverrides(cli, &desc.render);
+  } catch (const CliError& e) {
+    throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
+  }
+  for (const std::string& warning : desc.warnings) {
+    std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
+  }
+  if (desc.skippedDegenerateTriangles > 0) {
+    std::fprintf(stderr, "pathtracer: warning: %s: skipped %d degenerate triangles\n",
+                 desc.path.c_str(), desc.skippedDegenerateTriangles);
+  }
+  return desc;
+}
+
+Scene Build(SceneDesc desc, double* bvhBuildMs) {
+  Clock::time_point start = Clock::now();
+  try {
+    Scene scene = BuildScene(std::move(desc));
+    // The builder's own BVH time when it keeps one; else the whole build.
+    *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
+    return scene;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw AppFailure{kExitBadInput, e.what()};
+  }
+}
+
+// The reference at the size of what is rendered: the crop's, or a full image cut to it.
+std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& settings) {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  try {
+    ReadImageRgb(cli.referencePath, &width, &height, &rgb);
+  } catch (const ImageError& e) {
+    throw AppFailure{kExitBadInput, e.what()};
+  }
+  CropWindow crop = cli.crop.value_or(CropWindow{0, 0, settings.width, settings.height});
+  int cropW = crop.x1 - crop.x0, cropH = crop.y1 - crop.y0;
+  if (width == cropW && height == cropH) return rgb;
+  if (width != settings.width || height != settings.height) {
+    throw AppFailure{kExitBadInput, cli.referencePath + ": the reference is " +
+                                        std::to_string(width) + "x" + std::to_string(height) +
+                                        ", the render " + std::to_string(cropW) + "x" +
+                                        std::to_string(cropH)};
+  }
+  std::vector<float> cut;
+  cut.reserve(size_t(cropW) * cropH * 3);
+  for (int y = crop.y0; y < crop.y1; ++y) {
+    const float* row = rgb.data() + (size_t(y) * width + crop.x0) * 3;
+    cut.insert(cut.end(), row, row + size_t(cropW) * 3);
+  }
+  return cut;
+}
+
+RenderFunction ChooseBackend(BackendKind kind, const AppBackends& backends) {
+  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
+  bool cudaReady = backends.renderCuda != nullptr && gpus > 0;
+  if (kind == BackendKind::kCuda && !cudaReady) {
+    throw AppFailure{kExitRuntimeFailure,
+                     backends.renderCuda ? "--backend cuda: no CUDA device found"
+                                         : "--backend cuda: this build has no CUDA backend"};
+  }
+  if (kind == BackendKind::kCpu || !cudaReady) return backends.renderCpu;
+  return backends.renderCuda;
+}
+
+void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
+  WriteImage(cli.outputPath, image, false);
+  if (!cli.hdrPath.empty()) WriteImage(cli.hdrPath, image, true);
+}
+
+RenderOptions MakeRenderOptions(const CliOptions& cli, const std::vector<float>* reference) {
+  RenderOptions options;
+  options.backend = cli.backend;
+  options.threads = cli.threads;
+  options.compact = cli.compact;
+  options.sort = cli.sort;
+  options.integrator = cli.integrator;
+  if (cli.crop) options.crop = *cli.crop;
+  options.timeLimitSeconds = cli.timeLimitSeconds;
+  options.previewEverySeconds = cli.previewEverySeconds;
+  options.reference = reference;
+  return options;
+}
+
+RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction render,
+                    const std::vector<float>* reference) {
+  ProgressBar progress(cli.quiet);
+  RenderCallbacks callbacks;
+  callbacks.shouldStop = [] { return gInterrupted.load(std::memory_order_relaxed); };
+  callbacks.onProgress = [&progress](uint64_t done, uint64_t total) {
+    progress.Update(done, total);
+  };
+  if (cli.previewEverySeconds > 0.0) {
+    callbacks.onPreview = [&cli](const FilmImage& image) {
+      try {
+        WriteOutputs(cli, image);
+      } catch (const ImageError& e) {  // the final write reports it for good
+        std::fprintf(stderr, "\npathtracer: warning: preview not written: %s\n", e.what());
+      }
+    };
+  }
+  try {
+    RenderResult result = render(scene, MakeRenderOptions(cli, reference), callbacks);
+    progress.Finish();
+    return result;
+  } catch (const BackendUnavailable& e) {
+    throw AppFailure{kExitRuntimeFailure, e.what()};
+  }
+}
+
+void PrintSummary(const RenderResult& result) {
+  const RenderStats& s = result.stats;
+  double seconds = s.renderMs / 1e3;
+  uint64_t rays = s.cameraRays + s.extensionRays + s.shadowRays;
+  double msps = seconds > 0.0 ? double(s.samples) / seconds / 1e6 : 0.0;
+  double mrps = seconds > 0.0 ? double(rays) / seconds / 1e6 : 0.0;
+  std::string device = s.device.empty() ? s.backend : s.backend + ", " + s.device;
+  std::fprintf(stderr,
+               "pathtracer: %dx%d, %.1f spp in %.3f s on %s: %.2f Msamples/s, %.2f Mrays/s%s\n",
+               result.image.width, result.image.height, s.sppMean, seconds, device.c_str(),
+               msps, mrps, s.interrupted ? " (interrupted)" : "");
+}
+
+int Run(const CliOptions& cli, const AppBackends& backends) {
+  CheckOutputsWritable(cli);
+  AppTimes times;
+  SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
+  Scene scene = Build(std::move(desc), &times.bvhBuildMs);
+  std::vector<float> reference;
+  if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
+  RenderFunction render = ChooseBackend(cli.backend, backends);
+  InstallSigintHandler();
+  RenderResult result =
+      Render(cli, scene, render, cli.referencePath.empty() ? nullptr : &reference);
+  bool interrupted = gInterrupted.load();
+  result.stats.interrupted = result.stats.interrupted || interrupted;
+  try {
+    WriteOutputs(cli, result.image);
+    if (!cli.statsJsonPath.empty()) {
+      WriteStatsJson(cli.statsJsonPath, StatsToJson(result.stats, scene, times));
+    }
+  } catch (const ImageError& e) {
+    throw AppFailure{kExitRuntimeFailure, e.what()};
+  }
+  PrintSummary(result);
+  return interrupted ? kExitInterrupted : kExitOk;
+}
+
+}  // namespace
+
+int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
+  CliOptions cli;
+  try {
+    cli = ParseCli(argc, argv);
+  } catch (const CliError& e) {
+    std::fprintf(stderr, "pathtracer: %s (see --help)\n", e.what());
+    return kExitBadCommandLine;
+  }
+  if (cli.help) {
+    std::fputs(CliUsage().c_str(), stdout);
+    return kExitOk;
+  }
+  if (cli.version) {
+    std::printf("pathtracer %s\n", PT_VERSION);
+    return kExitOk;
+  }
+  try {
+    return Run(cli, backends);
+  } catch (const AppFailure& failure) {
+    std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
+    return failure.status;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "pathtracer: out of memory\n");
+    return kExitRuntimeFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", e.what());
+    return kExitRuntimeFailure;
+  }
+}
+
+}  // namespace pt

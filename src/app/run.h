@@ -1,0 +1,30 @@
+// The application behind main(): command line, scene, render, outputs and exit status, as
+// ../shared/cli.md defines them.
+#pragma once
+
+#include "src/integrator/render_api.h"
+
+namespace pt {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBadCommandLine = 1;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitRuntimeFailure = 3;
+inline constexpr int kExitInterrupted = 130;
+
+using RenderFunction = RenderResult (*)(const Scene&, const RenderOptions&,
+                                        const RenderCallbacks&);
+
+// The backends, handed in by main(): the executable, not pt_core, must reference them, since
+// the static backend libraries come before pt_core on the link line. renderCuda is null when
+// the CUDA backend is not built.
+struct AppBackends {
+  RenderFunction renderCpu = nullptr;
+  RenderFunction renderCuda = nullptr;
+  int (*cudaDeviceCount)() = nullptr;
+};
+
+// Runs the whole program; returns the exit status.
+int RunApp(int argc, const char* const* argv, const AppBackends& backends);
+
+}  // namespace pt

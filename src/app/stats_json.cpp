@@ -1,0 +1,109 @@
+#include "src/app/stats_json.h"
+
+#include <algorithm>
+
+#include "src/io/image_io.h"
+
+namespace pt {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+double PerMicrosecond(double count, double ms) { return ms > 0.0 ? count / (ms * 1e3) : 0.0; }
+double Mean(uint64_t total, uint64_t count) { return count ? double(total) / count : 0.0; }
+
+bool HasLight(const Scene& scene, LightType type) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(),
+                     [type](const Light& light) { return light.type == type; });
+}
+
+Json SceneJson(const Scene& scene) {
+  return Json{{"triangles", scene.TriangleCount()},
+              {"primitives", scene.PrimitiveCount()},
+              {"lights", scene.lights.size()},
+              {"effects", SceneEffectNames(scene)}};
+}
+
+Json TimesJson(const RenderStats& stats, const AppTimes& times) {
+  const StageTimes& s = stats.stages;
+  return Json{{"load", times.loadMs},
+              {"bvh_build", times.bvhBuildMs},
+              {"upload", stats.uploadMs},
+              {"render", stats.renderMs},
+              {"stages", Json{{"generate", s.generate},
+                              {"intersect", s.intersect},
+                              {"sort", s.sort},
+                              {"shade", s.shade},
+                              {"shadow", s.shadow},
+                              {"compact", s.compact},
+                              {"accumulate", s.accumulate}}}};
+}
+
+}  // namespace
+
+std::vector<std::string> SceneEffectNames(const Scene& scene) {
+  bool used[size_t(MaterialType::kCount)] = {};
+  bool absorption = false;
+  for (const PrimRef& prim : scene.prims) {
+    if (prim.material >= scene.desc.materials.size()) continue;
+    const Material& m = scene.desc.materials[prim.material];
+    used[size_t(m.type)] = true;
+    if (m.type == MaterialType::kDielectric && MaxComponent(m.absorption) > 0.0f) {
+      absorption = true;
+    }
+  }
+  std::vector<std::string> names;
+  const char* kTypeNames[] = {"diffuse", "emissive", "conductor", "dielectric", "plastic"};
+  for (size_t t = 0; t < size_t(MaterialType::kCount); ++t) {
+    if (used[t]) names.push_back(kTypeNames[t]);
+  }
+  if (absorption) names.push_back("absorption");
+  // Every emissive primitive is an area light, whether or not the light table lists it yet.
+  if (used[size_t(MaterialType::kEmissive)] || HasLight(scene, LightType::kArea)) {
+    names.push_back("area_lights");
+  }
+  if (!scene.desc.pointLights.empty() || HasLight(scene, LightType::kPoint)) {
+    names.push_back("point_lights");
+  }
+  if (scene.backgroundLight >= 0 || HasLight(scene, LightType::kBackground) ||
+      MaxComponent(scene.desc.background) > 0.0f) {
+    names.push_back("background_light");
+  }
+  if (scene.desc.camera.apertureRadius > 0.0f) names.push_back("depth_of_field");
+  return names;
+}
+
+Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times) {
+  uint64_t rays = stats.cameraRays + stats.extensionRays + stats.shadowRays;
+  Json relMse = Json::array();
+  for (const auto& [seconds, value] : stats.referenceRelMse) relMse.push_back({seconds, value});
+  return Json{
+      {"backend", stats.backend},
+      {"device", stats.device},
+      {"threads", stats.threads},
+      {"scene", SceneJson(scene)},
+      {"time_ms", TimesJson(stats, times)},
+      {"samples", stats.samples},
+      {"spp_mean", stats.sppMean},
+      {"rays", Json{{"camera", stats.cameraRays},
+                    {"extension", stats.extensionRays},
+                    {"shadow", stats.shadowRays}}},
+      {"msamples_per_s", PerMicrosecond(double(stats.samples), stats.renderMs)},
+      {"mrays_per_s", PerMicrosecond(double(rays), stats.renderMs)},
+      {"bvh", Json{{"nodes", scene.nodes.size()},
+                   {"mean_nodes_visited", Mean(stats.nodesVisited, stats.traversals)},
+                   {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},
+      {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
+      {"paths_in_flight", stats.pathsInFlight},
+      {"peak_device_bytes", stats.peakDeviceBytes},
+      {"nonfinite_samples", stats.nonfiniteSamples},
+      {"interrupted", stats.interrupted},
+      {"reference_relmse", relMse},
+  };
+}
+
+void WriteStatsJson(const std::string& path, const Json& document) {
+  WriteFileAtomic(path, document.dump(2) + "\n");
+}
+
+}  // namespace pt

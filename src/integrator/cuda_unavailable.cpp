@@ -1,0 +1,17 @@
+// In a build configured without CUDA, asking for the GPU backend is a clear error (exit 3 in
+// the app), never a crash or a silent fallback.
+#include "src/integrator/render_api.h"
+
+#if !defined(PT_HAVE_CUDA)
+namespace pt {
+
+RenderResult RenderCuda(const Scene&, const RenderOptions&, const RenderCallbacks&) {
+  throw BackendUnavailable(
+      "this build has no CUDA backend (configured without a CUDA compiler); use --backend cpu");
+}
+bool CudaBackendBuilt() { return false; }
+int CudaDeviceCount() { return 0; }
+std::string CudaDeviceName() { return ""; }
+
+}  // namespace pt
+#endif

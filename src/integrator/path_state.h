@@ -1,0 +1,57 @@
+// Path state as structure-of-arrays: one array per field, indexed by path slot. Stages run
+// over a queue of slot indices, so compaction and sorting reorder 4-byte indices and never
+// move path data. A slot's numbers depend only on its (pixel, sample), never on its queue
+// position, which keeps renders bit-identical across compaction and sort settings.
+#pragma once
+
+#include "src/core/atomic.h"
+#include "src/core/math.h"
+#include "src/geometry/interaction.h"
+
+namespace pt {
+
+// Bits of PathState::flags.
+constexpr uint32_t kDepthMask = 0xffu;         // bounces taken so far
+constexpr uint32_t kFlagAlive = 1u << 8;
+constexpr uint32_t kFlagSpecular = 1u << 9;    // the last bounce was a delta lobe (or camera)
+constexpr uint32_t kFlagShadow = 1u << 10;     // a shadow ray is queued for this bounce
+constexpr uint32_t kMediumShift = 11;          // dielectric material index + 1 the path is inside
+
+PT_HDI uint32_t DepthOf(uint32_t flags) { return flags & kDepthMask; }
+PT_HDI bool IsAlive(uint32_t flags) { return (flags & kFlagAlive) != 0; }
+PT_HDI int32_t MediumOf(uint32_t flags) { return int32_t(flags >> kMediumShift) - 1; }
+PT_HDI uint32_t WithMedium(uint32_t flags, int32_t material) {
+  return (flags & ((1u << kMediumShift) - 1)) | (uint32_t(material + 1) << kMediumShift);
+}
+
+// Raw pointers to the arrays, captured by value in every stage.
+struct PathState {
+  vec3* rayOrigin;
+  vec3* rayDir;
+  vec3* throughput;
+  vec3* radiance;
+  float* prevPdf;    // solid-angle pdf of the BSDF sample that made the current ray
+  uint32_t* flags;
+  HitRecord* hit;
+  vec3* shadowOrigin;
+  vec3* shadowDir;
+  float* shadowTMax;
+  vec3* shadowRadiance;  // what the shadow ray adds to radiance if unoccluded
+};
+
+// Bytes per path of the arrays above plus the queue and sort key (one uint32 each).
+constexpr size_t kPathStateBytes = 4 * sizeof(vec3) + sizeof(float) + sizeof(uint32_t) +
+                                   sizeof(HitRecord) + 3 * sizeof(vec3) + sizeof(float) +
+                                   2 * sizeof(uint32_t);
+
+// Integer statistics gathered by the stages.
+enum CounterId : uint32_t {
+  kCounterShadowRays = 0,
+  kCounterNodesVisited,
+  kCounterPrimsTested,
+  kCounterTraversals,
+  kCounterNonfinite,
+  kCounterCount,
+};
+
+}  // namespace pt

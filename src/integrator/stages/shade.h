@@ -1,0 +1,150 @@
+// Stage 4, shade: at each path's hit, add emission (weighted by MIS against light sampling),
+// queue one shadow ray for next-event estimation, then sample the BSDF for the next ray, with
+// Russian roulette. The whole integrator's light transport lives here.
+#pragma once
+
+#include "src/core/ray.h"
+#include "src/core/sampling.h"
+#include "src/geometry/shapes.h"
+#include "src/integrator/path_state.h"
+#include "src/integrator/wave.h"
+#include "src/lights/light_sample.h"
+#include "src/materials/bsdf.h"
+#include "src/scene/scene_view.h"
+
+namespace pt {
+
+// Shadow rays stop this fraction short of the light point, so they never hit the light's own
+// surface; relative to the distance, hence independent of the scene's scale (as pbrt-v4).
+constexpr float kShadowEpsilon = 1e-4f;
+
+// Weight of emission found by a BSDF-sampled ray, given the light-sampling pdf of the same
+// direction; NEE covers the rest of that light's contribution.
+PT_HDI float EmitterHitWeight(IntegratorKind kind, uint32_t flags, float prevPdf, float lightPdf) {
+  bool direct = (flags & kFlagSpecular) != 0;  // camera ray or after a delta lobe
+  switch (kind) {
+    case IntegratorKind::kBsdf: return 1.0f;
+    case IntegratorKind::kNee: return direct ? 1.0f : 0.0f;
+    case IntegratorKind::kMis:
+    default: return direct ? 1.0f : PowerHeuristic(prevPdf, lightPdf);
+  }
+}
+
+// Ends the path, keeping what it gathered.
+PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radiance) {
+  ps.radiance[id] = radiance;
+  ps.flags[id] = flags & ~kFlagAlive;
+}
+
+// Next-event estimation at a non-delta vertex: sample a light, and queue the shadow ray that
+// decides whether its (MIS-weighted) contribution counts.
+PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
+                             const SurfaceInteraction& si, const Material& mat, const Frame& frame,
+                             vec3 woLocal, vec3 beta, vec4 u, PathState ps, uint32_t id) {
+  LightLiSample ls;
+  if (!SampleLightLi(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
+  vec3 wiLocal = frame.ToLocal(ls.wi);
+  vec3 f = EvalBsdf(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  if (IsBlack(f) || IsBlack(ls.L)) return false;
+  float weight = 1.0f;
+  if (!ls.isDelta && params.kind == IntegratorKind::kMis)
+    weight = PowerHeuristic(ls.pdf, PdfBsdf(mat, woLocal, wiLocal));
+  vec3 origin = OffsetRayOrigin(si.p, si.pError, si.ng, ls.wi);
+  ps.shadowOrigin[id] = origin;
+  ps.shadowDir[id] = ls.wi;
+  ps.shadowTMax[id] = ls.isInfinite ? kInfinity
+                                    : glm::length(ls.pLight - origin) * (1.0f - kShadowEpsilon);
+  ps.shadowRadiance[id] = beta * f * ls.L * (weight / ls.pdf);
+  return true;
+}
+
+// Samples the BSDF for the continuation ray. Returns false when the path ends here.
+PT_HDI bool ContinuePath(const SurfaceInteraction& si, const Material& mat, const Frame& frame,
+                         vec3 wo, vec3 woLocal, vec4 u, int rrDepth, uint32_t depth,
+                         vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
+  BsdfSample bs;
+  if (!SampleBsdf(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
+    return false;
+  vec3 wi = frame.FromLocal(bs.wi);
+  // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
+  // such a ray would leak light, so the path ends instead.
+  bool sameSide = glm::dot(wi, si.ng) * glm::dot(wo, si.ng) > 0.0f;
+  if (sameSide == bs.isTransmission) return false;
+  *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
+  uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
+  if (bs.isDelta) f |= kFlagSpecular;
+  if (bs.isTransmission) f = WithMedium(f, glm::dot(wo, si.ng) > 0.0f ? int32_t(si.material) : -1);
+  // Russian roulette: survivors carry the weight of those ended.
+  if (int(depth) >= rrDepth) {
+    float q = fmaxf(0.0f, 1.0f - MaxComponent(*beta));
+    if (u.w < q) return false;
+    *beta /= 1.0f - q;
+  }
+  *flags = f;
+  ps.prevPdf[id] = bs.isDelta ? 0.0f : bs.pdf;
+  ps.rayOrigin[id] = OffsetRayOrigin(si.p, si.pError, si.ng, wi);
+  ps.rayDir[id] = wi;
+  return true;
+}
+
+PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
+                      const WaveInfo& wave, PathState ps, uint32_t id) {
+  uint32_t flags = ps.flags[id];
+  if (!IsAlive(flags)) return;
+  uint32_t depth = DepthOf(flags);
+  HitRecord hit = ps.hit[id];
+  Ray ray{ps.rayOrigin[id], ps.rayDir[id]};
+  vec3 beta = ps.throughput[id];
+  vec3 radiance = ps.radiance[id];
+  float prevPdf = ps.prevPdf[id];
+
+  // Beer-Lambert attenuation over the segment travelled inside a dielectric.
+  int32_t medium = MediumOf(flags);
+  if (medium >= 0) {
+    vec3 sigma = scene.materials[medium].absorption;
+    if (!IsBlack(sigma)) beta *= glm::exp(-sigma * hit.t);
+  }
+
+  if (hit.prim == HitRecord::kNoHit) {  // escaped: the background is a light
+    if (scene.backgroundLight >= 0) {
+      float w = EmitterHitWeight(params.kind, flags, prevPdf, BackgroundLightPdf(scene));
+      radiance += beta * scene.background * w;
+    }
+    TerminatePath(ps, id, flags, radiance);
+    return;
+  }
+
+  SurfaceInteraction si = MakeInteraction(scene, ray, hit);
+  const Material& mat = scene.materials[si.material];
+  vec3 wo = -ray.d;
+  if (mat.type == MaterialType::kEmissive) {  // emitters reflect nothing
+    vec3 le = EmittedRadiance(mat, si.ng, wo);
+    if (!IsBlack(le) && si.light >= 0) {
+      float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
+      radiance += beta * le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
+    }
+    TerminatePath(ps, id, flags, radiance);
+    return;
+  }
+  if (int(depth) >= params.maxDepth) {
+    TerminatePath(ps, id, flags, radiance);
+    return;
+  }
+
+  Frame frame = Frame::FromZ(si.ns);
+  vec3 woLocal = frame.ToLocal(wo);
+  RngKey key = wave.KeyOf(id);
+  if (params.kind != IntegratorKind::kBsdf && HasNonDeltaLobe(mat)) {
+    vec4 uLight = key.Draw4(depth, kDimLight);
+    if (QueueLightSample(scene, params, si, mat, frame, woLocal, beta, uLight, ps, id))
+      flags |= kFlagShadow;
+  }
+  vec4 uBsdf = key.Draw4(depth, kDimBsdf);
+  bool alive = ContinuePath(si, mat, frame, wo, woLocal, uBsdf, params.rrDepth, depth, &beta,
+                            &flags, ps, id);
+  ps.throughput[id] = beta;
+  ps.radiance[id] = radiance;
+  ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
+}
+
+}  // namespace pt

@@ -1,0 +1,27 @@
+// Stage 5, shadow: trace the shadow ray that shade queued (any hit ends it) and add the light
+// sample's contribution when nothing blocks it.
+#pragma once
+
+#include "src/geometry/traverse.h"
+#include "src/integrator/path_state.h"
+#include "src/scene/scene_view.h"
+
+namespace pt {
+
+PT_HDI void TraceShadowRay(const SceneView& scene, PathState ps, uint32_t id, Counter* counters) {
+  uint32_t flags = ps.flags[id];
+  if (!(flags & kFlagShadow)) return;
+  ps.flags[id] = flags & ~kFlagShadow;
+  Ray ray{ps.shadowOrigin[id], ps.shadowDir[id]};
+  TraversalCounters tc;
+  bool occluded = IntersectAny(scene, ray, ps.shadowTMax[id], &tc);
+  if (!occluded) ps.radiance[id] += ps.shadowRadiance[id];
+  if (counters) {
+    AddToCounter(&counters[kCounterNodesVisited], tc.nodes);
+    AddToCounter(&counters[kCounterPrimsTested], tc.prims);
+    AddToCounter(&counters[kCounterTraversals], 1);
+    AddToCounter(&counters[kCounterShadowRays], 1);
+  }
+}
+
+}  // namespace pt

@@ -1,0 +1,41 @@
+// A wave: the set of paths in flight at once, samplesInWave consecutive samples of a range of
+// pixels of the crop window. Path slot id -> (pixel, sample) is pure arithmetic.
+#pragma once
+
+#include "src/core/math.h"
+#include "src/core/rng.h"
+
+namespace pt {
+
+enum class IntegratorKind : uint32_t { kMis = 0, kBsdf = 1, kNee = 2 };
+
+struct WaveInfo {
+  uint32_t pixelStart;      // first pixel of the crop window in this wave (crop-linear index)
+  uint32_t pixelCount;      // pixels in this wave
+  uint32_t sampleStart;     // sample index of the wave's first sample
+  uint32_t samplesInWave;
+  uint32_t cropX0, cropY0, cropWidth;
+  uint32_t imageWidth, imageHeight;
+  uint32_t seed;
+
+  PT_HDI uint32_t PathCount() const { return pixelCount * samplesInWave; }
+  // Neighbouring slots are neighbouring pixels: coherent camera rays in a warp.
+  PT_HDI uint32_t CropPixelOf(uint32_t id) const { return pixelStart + id % pixelCount; }
+  PT_HDI uint32_t SampleOf(uint32_t id) const { return sampleStart + id / pixelCount; }
+  PT_HDI uint32_t ImageX(uint32_t cropPixel) const { return cropX0 + cropPixel % cropWidth; }
+  PT_HDI uint32_t ImageY(uint32_t cropPixel) const { return cropY0 + cropPixel / cropWidth; }
+  // The random stream of a path is keyed on the image pixel, so a crop renders the same
+  // pixels as the full image.
+  PT_HDI RngKey KeyOf(uint32_t id) const {
+    uint32_t p = CropPixelOf(id);
+    return RngKey{ImageY(p) * imageWidth + ImageX(p), SampleOf(id), seed};
+  }
+};
+
+struct IntegratorParams {
+  int maxDepth;
+  int rrDepth;
+  IntegratorKind kind;
+};
+
+}  // namespace pt

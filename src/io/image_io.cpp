@@ -1,0 +1,247 @@
+#include "src/io/image_io.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <cstdio>
+#include <filesystem>
+
+// Static so that no other library's copy of stb_image_write can clash with this one.
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#include <stb_image_write.h>
+#pragma GCC diagnostic pop
+#include <tinyexr.h>
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string LowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+std::string FolderOf(const std::string& path) {
+  fs::path parent = fs::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+// Creates a fresh file beside path (O_EXCL, so never someone else's); returns its fd.
+int CreateTempBeside(const std::string& path, std::string* tempPath) {
+  static std::atomic<uint64_t> counter{0};
+  std::string base = FolderOf(path) + "/." + fs::path(path).filename().string() + ".tmp-" +
+                     std::to_string(getpid()) + "-";
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    *tempPath = base + std::to_string(counter++);
+    int fd = open(tempPath->c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0 || errno != EEXIST) return fd;
+  }
+  errno = EEXIST;
+  return -1;
+}
+
+bool WriteAll(int fd, const char* data, size_t size) {
+  while (size > 0) {
+    ssize_t n = write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= size_t(n);
+  }
+  return true;
+}
+
+void CheckImageSize(const std::string& path, const FilmImage& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgb.size() != size_t(image.width) * size_t(image.height) * 3) {
+    throw ImageError(path + ": image size does not match its pixel data");
+  }
+}
+
+std::string EncodePng(const std::string& path, const FilmImage& image) {
+  std::vector<uint8_t> bytes(image.rgb.size());
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = LinearToSrgb8(image.rgb[i]);
+  std::string out;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+  };
+  if (!stbi_write_png_to_func(append, &out, image.width, image.height, 3, bytes.data(),
+                              image.width * 3)) {
+    throw ImageError(path + ": PNG encoding failed");
+  }
+  return out;
+}
+
+std::string EncodePfm(const FilmImage& image) {
+  std::string out = "PF\n" + std::to_string(image.width) + " " +
+                    std::to_string(image.height) + "\n-1.0\n";
+  size_t rowBytes = size_t(image.width) * 3 * sizeof(float);
+  size_t header = out.size();
+  out.resize(header + rowBytes * size_t(image.height));
+  // PFM rows run bottom to top; floats are little-endian (scale -1), as on every host we target.
+  static_assert(std::endian::native == std::endian::little, "PFM writer assumes little-endian");
+  for (int y = 0; y < image.height; ++y) {
+    const float* row = image.rgb.data() + size_t(image.height - 1 - y) * image.width * 3;
+    std::memcpy(out.data() + header + size_t(y) * rowBytes, row, rowBytes);
+  }
+  return out;
+}
+
+// Planar channels in the alphabetical order OpenEXR readers expect.
+struct ExrChannel {
+  std::string name;
+  int pixelType;
+  std::vector<uint8_t> data;
+};
+
+ExrChannel PlanarFloat(const std::string& name, const std::vector<float>& interleaved, int c) {
+  size_t pixels = interleaved.size() / 3;
+  ExrChannel ch{name, TINYEXR_PIXELTYPE_FLOAT, std::vector<uint8_t>(pixels * 4)};
+  float* out = reinterpret_cast<float*>(ch.data.data());
+  for (size_t i = 0; i < pixels; ++i) out[i] = interleaved[i * 3 + c];
+  return ch;
+}
+
+std::string EncodeExr(const std::string& path, const FilmImage& image, bool withExtras) {
+  std::vector<ExrChannel> channels;
+  for (int c : {2, 1, 0}) channels.push_back(PlanarFloat(std::string(1, "RGB"[c]), image.rgb, c));
+  size_t pixels = size_t(image.width) * image.height;
+  if (withExtras && image.samples.size() == pixels) {
+    ExrChannel ch{"samples", TINYEXR_PIXELTYPE_UINT, std::vector<uint8_t>(pixels * 4)};
+    std::memcpy(ch.data.data(), image.samples.data(), pixels * 4);
+    channels.push_back(std::move(ch));
+  }
+  if (withExtras && image.variance.size() == pixels * 3) {
+    for (int c : {2, 1, 0}) {
+      channels.push_back(PlanarFloat(std::string("variance.") + "RGB"[c], image.variance, c));
+    }
+  }
+  std::vector<EXRChannelInfo> infos(channels.size());
+  std::vector<int> types(channels.size());
+  std::vector<unsigned char*> planes(channels.size());
+  for (size_t i = 0; i < channels.size(); ++i) {
+    std::memset(&infos[i], 0, sizeof(EXRChannelInfo));
+    std::snprintf(infos[i].name, sizeof(infos[i].name), "%s", channels[i].name.c_str());
+    types[i] = channels[i].pixelType;
+    planes[i] = channels[i].data.data();
+  }
+  EXRHeader header;
+  InitEXRHeader(&header);
+  header.num_channels = int(channels.size());
+  header.channels = infos.data();
+  header.pixel_types = types.data();
+  header.requested_pixel_types = types.data();
+  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+  EXRImage exr;
+  InitEXRImage(&exr);
+  exr.num_channels = int(channels.size());
+  exr.images = planes.data();
+  exr.width = image.width;
+  exr.height = image.height;
+  unsigned char* memory = nullptr;
+  const char* err = nullptr;
+  size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
+  if (size == 0) {
+    std::string message = path + ": EXR encoding failed" + (err ? std::string(": ") + err : "");
+    if (err) FreeEXRErrorMessage(err);
+    throw ImageError(message);
+  }
+  std::string out(reinterpret_cast<char*>(memory), size);
+  std::free(memory);
+  return out;
+}
+
+}  // namespace
+
+bool ImageFormatFromPath(const std::string& path, ImageFormat* format) {
+  std::string ext = LowerExtension(path);
+  if (ext == ".png") *format = ImageFormat::kPng;
+  else if (ext == ".exr") *format = ImageFormat::kExr;
+  else if (ext == ".pfm") *format = ImageFormat::kPfm;
+  else return false;
+  return true;
+}
+
+float LinearToSrgb(float linear) {
+  if (linear <= 0.0031308f) return 12.92f * linear;
+  return 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+uint8_t LinearToSrgb8(float linear) {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  return uint8_t(std::lround(std::clamp(LinearToSrgb(linear), 0.0f, 1.0f) * 255.0f));
+}
+
+void WriteFileAtomic(const std::string& path, const std::string& bytes) {
+  std::string temp;
+  int fd = CreateTempBeside(path, &temp);
+  if (fd < 0) throw ImageError(path + ": cannot create a file there: " + std::strerror(errno));
+  bool ok = WriteAll(fd, bytes.data(), bytes.size());
+  int savedErrno = errno;
+  if (close(fd) != 0 && ok) {
+    ok = false;
+    savedErrno = errno;
+  }
+  if (ok && std::rename(temp.c_str(), path.c_str()) != 0) {
+    ok = false;
+    savedErrno = errno;
+  }
+  if (!ok) {
+    unlink(temp.c_str());
+    throw ImageError(path + ": write failed: " + std::strerror(savedErrno));
+  }
+}
+
+void WriteImage(const std::string& path, const FilmImage& image, bool withExtras) {
+  ImageFormat format;
+  if (!ImageFormatFromPath(path, &format)) {
+    throw ImageError(path + ": unknown image extension (use .png, .exr or .pfm)");
+  }
+  CheckImageSize(path, image);
+  std::string bytes;
+  switch (format) {
+    case ImageFormat::kPng: bytes = EncodePng(path, image); break;
+    case ImageFormat::kExr: bytes = EncodeExr(path, image, withExtras); break;
+    case ImageFormat::kPfm: bytes = EncodePfm(image); break;
+  }
+  WriteFileAtomic(path, bytes);
+}
+
+bool CheckWritable(const std::string& path, std::string* why) {
+  std::string folder = FolderOf(path);
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    if (why) *why = "the folder " + folder + " does not exist";
+    return false;
+  }
+  if (fs::is_directory(path, ec)) {
+    if (why) *why = path + " is a folder";
+    return false;
+  }
+  std::string probe;
+  int fd = CreateTempBeside(path, &probe);
+  if (fd < 0) {
+    if (why) *why = "cannot create a file in " + folder + ": " + std::strerror(errno);
+    return false;
+  }
+  close(fd);
+  unlink(probe.c_str());
+  return true;
+}
+
+}  // namespace pt

@@ -1,0 +1,46 @@
+// What the glTF and OBJ loaders share: transforming triangles into world space, skipping
+// degenerate ones, and adding the file's materials to the scene.
+#pragma once
+
+#include <string>
+
+#include "src/scene/scene.h"
+
+namespace pt {
+
+// Zero area (repeated or collinear vertices) or a non-finite coordinate: such a triangle has no
+// normal, so the loaders skip it (and count it).
+bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2);
+
+// Receives one mesh file's triangles. Positions are transformed in double precision by the
+// current transform (node transforms composed with the object's); normals by its inverse
+// transpose.
+class MeshSink {
+ public:
+  // materialOverride: a scene material index for every triangle, or -1 for the file's own.
+  MeshSink(SceneDesc& scene, const glm::dmat4& objectToWorld, int64_t materialOverride,
+           std::string label);
+
+  const std::string& Label() const { return label_; }
+  bool HasOverride() const { return materialOverride_ >= 0; }
+  uint32_t Override() const { return uint32_t(materialOverride_); }
+  const glm::dmat4& ObjectToWorld() const { return objectToWorld_; }
+
+  // toWorld maps the mesh's coordinates to world space.
+  void SetTransform(const glm::dmat4& toWorld);
+  // normals: three vertex normals, or null. Returns false when the triangle was skipped.
+  bool Add(const vec3 p[3], const vec3* normals, uint32_t material);
+
+  uint32_t AddMaterial(const Material& material, const std::string& name);
+  void Warn(const std::string& message) { scene_.warnings.push_back(label_ + ": " + message); }
+
+ private:
+  SceneDesc& scene_;
+  glm::dmat4 objectToWorld_;
+  int64_t materialOverride_;
+  std::string label_;
+  glm::dmat4 toWorld_{1.0};
+  glm::dmat3 normalMatrix_{1.0};
+};
+
+}  // namespace pt

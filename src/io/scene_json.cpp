@@ -1,0 +1,255 @@
+#include "src/io/scene_json.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <vector>
+
+#include "src/io/scene_loader.h"
+
+namespace pt {
+namespace {
+
+// One open object or array while parsing: the keys seen so far (objects) or the element count.
+struct ParseFrame {
+  bool isObject = true;
+  std::set<std::string> keys;
+  std::string currentKey;
+  int64_t index = -1;
+};
+
+// The path of the value the innermost frame is at, over frames [0, count).
+std::string FramesPath(const std::vector<ParseFrame>& frames, size_t count) {
+  std::string path;
+  for (size_t i = 0; i < count; ++i) {
+    const ParseFrame& f = frames[i];
+    if (f.isObject) {
+      if (f.currentKey.empty()) break;
+      path += (path.empty() ? "" : ".") + f.currentKey;
+    } else {
+      if (f.index < 0) break;
+      path += "[" + std::to_string(f.index) + "]";
+    }
+  }
+  return path;
+}
+
+// nlohmann prefixes "[json.exception.parse_error.101] "; users need only the rest.
+std::string StripExceptionId(const std::string& what) {
+  size_t close = what.find("] ");
+  return (what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
+             ? what.substr(close + 2)
+             : what;
+}
+
+const char* TypeName(const Json& j) { return j.type_name(); }
+
+}  // namespace
+
+void FailAt(const std::string& file, const std::string& path, const std::string& what) {
+  throw SceneError(file, path, what);
+}
+
+std::string FormatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.10g", v);
+  return buf;
+}
+
+bool Range::Contains(double v) const {
+  bool aboveLo = loOpen ? v > lo : v >= lo;
+  bool belowHi = hiOpen ? v < hi : v <= hi;
+  return aboveLo && belowHi;
+}
+
+std::string Range::Describe() const {
+  bool loInf = std::isinf(lo), hiInf = std::isinf(hi);
+  if (loInf && hiInf) return "any finite number";
+  if (hiInf) return std::string(loOpen ? "> " : ">= ") + FormatNumber(lo);
+  if (loInf) return std::string(hiOpen ? "< " : "<= ") + FormatNumber(hi);
+  return std::string(loOpen ? "(" : "[") + FormatNumber(lo) + ", " + FormatNumber(hi) +
+         (hiOpen ? ")" : "]");
+}
+
+Json ParseSceneJson(const std::string& text, const std::string& file) {
+  std::vector<ParseFrame> frames;
+  auto elementStarts = [&frames] {
+    if (!frames.empty() && !frames.back().isObject) frames.back().index++;
+  };
+  Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+        elementStarts();
+        frames.push_back(ParseFrame{true});
+        break;
+      case Json::parse_event_t::array_start:
+        elementStarts();
+        frames.push_back(ParseFrame{false});
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        frames.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        ParseFrame& top = frames.back();
+        std::string key = parsed.get<std::string>();
+        if (!top.keys.insert(key).second) {
+          std::string owner = FramesPath(frames, frames.size() - 1);
+          top.currentKey = key;
+          FailAt(file, FramesPath(frames, frames.size()),
+                 "duplicate key \"" + key + "\" in " + (owner.empty() ? "the top level" : owner));
+        }
+        top.currentKey = key;
+        break;
+      }
+      case Json::parse_event_t::value:
+        elementStarts();
+        break;
+    }
+    return true;
+  };
+  try {
+    return Json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    std::string near = FramesPath(frames, frames.size());
+    FailAt(file, "",
+           "malformed JSON" + (near.empty() ? std::string() : " near " + near) + ": " +
+               StripExceptionId(e.what()));
+  }
+}
+
+// ---- JsonValue -----------------------------------------------------------------------------
+
+float JsonValue::Number(Range range) const {
+  if (!json_->is_number()) Fail(std::string("expected a number, got ") + TypeName(*json_));
+  double v = json_->get<double>();
+  if (!std::isfinite(v)) Fail(FormatNumber(v) + " is not a finite number");
+  if (!range.Contains(v)) {
+    bool interval = !std::isinf(range.lo) && !std::isinf(range.hi);
+    Fail(FormatNumber(v) + (interval ? " is outside " : " must be ") + range.Describe());
+  }
+  float f = static_cast<float>(v);
+  if (!std::isfinite(f)) Fail(FormatNumber(v) + " is too large for a float");
+  return f;
+}
+
+int64_t JsonValue::Integer(int64_t lo, int64_t hi) const {
+  int64_t v = 0;
+  if (json_->is_number_integer() && !json_->is_number_unsigned()) {
+    v = json_->get<int64_t>();
+  } else if (json_->is_number_unsigned()) {
+    uint64_t u = json_->get<uint64_t>();
+    if (u > uint64_t(hi)) Fail(FormatNumber(double(u)) + " is outside [" + std::to_string(lo) +
+                               ", " + std::to_string(hi) + "]");
+    v = int64_t(u);
+  } else if (json_->is_number_float()) {
+    // 1e3 means 1000; 1.5 is not an integer.
+    double d = json_->get<double>();
+    if (!std::isfinite(d)) Fail(FormatNumber(d) + " is not a finite number");
+    if (d != std::floor(d) || std::fabs(d) > 9.0e15) Fail("expected an integer, got " + FormatNumber(d));
+    v = int64_t(d);
+  } else {
+    Fail(std::string("expected an integer, got ") + TypeName(*json_));
+  }
+  if (v < lo || v > hi) {
+    Fail(std::to_string(v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return v;
+}
+
+vec3 JsonValue::Vec3(Range range) const {
+  if (!json_->is_array() || json_->size() != 3) {
+    std::string got = json_->is_array() ? "an array of " + std::to_string(json_->size())
+                                        : std::string(TypeName(*json_));
+    Fail("expected an array of 3 numbers, got " + got);
+  }
+  return vec3(Element(0).Number(range), Element(1).Number(range), Element(2).Number(range));
+}
+
+std::string JsonValue::String() const {
+  if (!json_->is_string()) Fail(std::string("expected a string, got ") + TypeName(*json_));
+  return json_->get<std::string>();
+}
+
+bool JsonValue::Bool() const {
+  if (!json_->is_boolean()) Fail(std::string("expected true or false, got ") + TypeName(*json_));
+  return json_->get<bool>();
+}
+
+size_t JsonValue::ArraySize() const {
+  if (!json_->is_array()) Fail(std::string("expected an array, got ") + TypeName(*json_));
+  return json_->size();
+}
+
+JsonValue JsonValue::Element(size_t i) const {
+  return JsonValue((*json_)[i], path_ + "[" + std::to_string(i) + "]", *file_);
+}
+
+// ---- JsonObject ----------------------------------------------------------------------------
+
+JsonObject::JsonObject(const JsonValue& value) : value_(value) {
+  if (!value.Raw().is_object()) {
+    value.Fail(std::string("expected an object, got ") + TypeName(value.Raw()));
+  }
+}
+
+std::string JsonObject::FieldPath(const std::string& key) const {
+  return Path().empty() ? key : Path() + "." + key;
+}
+
+void JsonObject::Fail(const std::string& key, const std::string& what) const {
+  FailAt(File(), FieldPath(key), what);
+}
+
+void JsonObject::AllowOnly(std::initializer_list<const char*> keys, const std::string& what) const {
+  for (const auto& item : value_.Raw().items()) {
+    bool known = false;
+    for (const char* k : keys) known = known || item.key() == k;
+    if (known) continue;
+    std::string list;
+    for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+    Fail(item.key(), "unknown field \"" + item.key() + "\" (" + what + " has: " + list + ")");
+  }
+}
+
+bool JsonObject::Has(const std::string& key) const { return value_.Raw().contains(key); }
+
+JsonValue JsonObject::Field(const std::string& key) const {
+  auto it = value_.Raw().find(key);
+  if (it == value_.Raw().end()) Fail(key, "missing required field \"" + key + "\"");
+  return JsonValue(*it, FieldPath(key), File());
+}
+
+float JsonObject::Number(const std::string& key, Range range) const {
+  return Field(key).Number(range);
+}
+
+float JsonObject::NumberOr(const std::string& key, float fallback, Range range) const {
+  return Has(key) ? Number(key, range) : fallback;
+}
+
+int64_t JsonObject::Integer(const std::string& key, int64_t lo, int64_t hi) const {
+  return Field(key).Integer(lo, hi);
+}
+
+int64_t JsonObject::IntegerOr(const std::string& key, int64_t fallback, int64_t lo,
+                              int64_t hi) const {
+  return Has(key) ? Integer(key, lo, hi) : fallback;
+}
+
+vec3 JsonObject::Vec3(const std::string& key, Range range) const { return Field(key).Vec3(range); }
+
+vec3 JsonObject::Vec3Or(const std::string& key, vec3 fallback, Range range) const {
+  return Has(key) ? Vec3(key, range) : fallback;
+}
+
+std::string JsonObject::String(const std::string& key) const { return Field(key).String(); }
+
+bool JsonObject::BoolOr(const std::string& key, bool fallback) const {
+  return Has(key) ? Field(key).Bool() : fallback;
+}
+
+JsonObject JsonObject::Object(const std::string& key) const { return JsonObject(Field(key)); }
+
+}  // namespace pt

@@ -1,0 +1,29 @@
+// Loads a scene file (shared/scene-format.md, version 1) into a SceneDesc: every field checked,
+// every shape in world space. Any problem throws SceneError naming the file and the field.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "src/scene/scene.h"
+
+namespace pt {
+
+// A bad scene or input file. The message reads "FILE: FIELD.PATH: what is wrong", e.g.
+// "scenes/x.json: materials.white.albedo[1]: 1.3 is outside [0, 1]"; the app exits with 2.
+class SceneError : public std::runtime_error {
+ public:
+  explicit SceneError(const std::string& message) : std::runtime_error(message) {}
+  SceneError(const std::string& file, const std::string& field, const std::string& what)
+      : std::runtime_error(file + ": " + (field.empty() ? "" : field + ": ") + what) {}
+};
+
+// Reads and parses the file; relative mesh paths resolve against its folder.
+SceneDesc LoadScene(const std::string& path);
+
+// Parses scene text. pathForMessages names the file in errors (and SceneDesc::path);
+// baseDir is the folder relative mesh paths resolve against.
+SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathForMessages,
+                              const std::string& baseDir);
+
+}  // namespace pt

@@ -1,0 +1,245 @@
+// Next-event estimation: choosing a light by power, sampling a point or direction on it, and
+// the matching solid-angle pdfs for multiple importance sampling when a BSDF-sampled ray hits
+// an emitter. Every pdf here includes the probability of choosing the light.
+#pragma once
+
+#include "src/core/sampling.h"
+#include "src/scene/scene_view.h"
+
+namespace pt {
+
+struct LightLiSample {
+  vec3 L = vec3(0.0f);       // radiance arriving at refP along wi (point: intensity / d^2)
+  vec3 wi = vec3(0.0f);      // unit direction from refP towards the light
+  float pdf = 0.0f;          // solid angle x choice probability; delta: choice probability
+  vec3 pLight = vec3(0.0f);  // the sampled point (background: a point beyond the scene)
+  vec3 nLight = vec3(0.0f);  // unit geometric normal there (point: 0; background: -wi)
+  bool isDelta = false;      // point light: MIS does not apply
+  bool isInfinite = false;   // background: trace the shadow ray unbounded
+  int lightIndex = -1;       // which entry of SceneView::lights was chosen
+};
+
+// ---- Shape measures shared with the host light table ----
+
+PT_HDI float QuadArea(const Quad& q) { return glm::length(glm::cross(q.u, q.v)); }
+PT_HDI float TriangleArea(const Triangle& t) {
+  return 0.5f * glm::length(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+}
+PT_HDI float SphereArea(const Sphere& s) { return 4.0f * kPi * s.radius * s.radius; }
+
+// Radiance leaving an emissive surface with geometric normal ng towards wo (world space):
+// emission is one-sided unless the material says two_sided.
+PT_HDI vec3 EmittedRadiance(const Material& m, vec3 ng, vec3 wo) {
+  if (m.type != MaterialType::kEmissive) return vec3(0.0f);
+  if (!m.twoSided && glm::dot(ng, wo) <= 0.0f) return vec3(0.0f);
+  return m.radiance;
+}
+
+// ---- Light choice ----
+
+// Largest i with lightCdf[i] <= u, so a light of zero probability (an empty cdf interval) is
+// never chosen. Returns -1 when there is nothing to choose.
+PT_HDI int SampleLightIndex(const SceneView& s, float u) {
+  if (s.lightCount == 0) return -1;
+  int lo = 0, hi = int(s.lightCount) - 1;
+  while (lo < hi) {
+    int mid = (lo + hi + 1) / 2;
+    if (s.lightCdf[mid] <= u) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+// ---- Spheres: the cone of directions a sphere subtends from an outside point ----
+
+struct SphereCone {
+  float sin2ThetaMax, sinThetaMax, cosThetaMax, oneMinusCosThetaMax;
+};
+
+// False when refP is inside the sphere (then it is sampled uniformly by area instead).
+// 1 - cos is computed as sin^2 / (1 + cos), exact for tiny or distant spheres where the
+// direct difference cancels, so no small-angle approximation (and no bias) is needed.
+PT_HDI bool SphereConeFrom(const Sphere& sp, vec3 refP, SphereCone* c) {
+  vec3 d = sp.center - refP;
+  float dist2 = glm::dot(d, d);
+  float r2 = sp.radius * sp.radius;
+  if (dist2 <= r2) return false;
+  c->sin2ThetaMax = r2 / dist2;
+  c->sinThetaMax = sqrtf(c->sin2ThetaMax);
+  c->cosThetaMax = SafeSqrt(1.0f - c->sin2ThetaMax);
+  c->oneMinusCosThetaMax = c->sin2ThetaMax / (1.0f + c->cosThetaMax);
+  return true;
+}
+
+PT_HDI float SphereConePdf(const SphereCone& c) {
+  return 1.0f / (2.0f * kPi * c.oneMinusCosThetaMax);
+}
+
+// Uniform direction in the cone, mapped to the visible point of the sphere it hits (pbrt-v4
+// Sphere::Sample): alpha is the angle at the centre between the axis and that point.
+PT_HDI void SampleSphereCone(const Sphere& sp, vec3 refP, const SphereCone& c, vec2 u,
+                             vec3* p, vec3* n) {
+  float omc = u.x * c.oneMinusCosThetaMax;  // 1 - cos(theta), accurate near the axis
+  float cosTheta = 1.0f - omc;
+  float sin2Theta = omc * (2.0f - omc);
+  float cosAlpha = sin2Theta / c.sinThetaMax +
+                   cosTheta * SafeSqrt(1.0f - sin2Theta / c.sin2ThetaMax);
+  float sinAlpha = SafeSqrt(1.0f - cosAlpha * cosAlpha);
+  float phi = u.y * 2.0f * kPi;
+  vec3 w = vec3(sinAlpha * cosf(phi), sinAlpha * sinf(phi), cosAlpha);
+  Frame frame = Frame::FromZ(glm::normalize(sp.center - refP));
+  *n = frame.FromLocal(-w);
+  *p = sp.center + sp.radius * (*n);
+}
+
+// ---- Area-measure to solid-angle conversion ----
+
+// Solid-angle pdf of picking pLight uniformly on an area from refP, with the one-sided test.
+// Returns 0 when the point faces away (and the light is one-sided) or is degenerate.
+PT_HDI float AreaToSolidAnglePdf(vec3 refP, vec3 pLight, vec3 nLight, float area,
+                                 bool twoSided) {
+  vec3 d = pLight - refP;
+  float dist2 = glm::dot(d, d);
+  if (dist2 == 0.0f || area <= 0.0f) return 0.0f;
+  float cosLight = -glm::dot(nLight, d) / sqrtf(dist2);
+  if (cosLight == 0.0f || (!twoSided && cosLight < 0.0f)) return 0.0f;
+  float pdf = dist2 / (fabsf(cosLight) * area);
+  return isfinite(pdf) ? pdf : 0.0f;
+}
+
+// Solid-angle pdf (without the choice probability) of an area light's point as
+// SampleAreaLight below would produce it from refP.
+PT_HDI float AreaLightPdf(const SceneView& s, const Light& light, vec3 refP, vec3 pLight,
+                          vec3 nLight) {
+  const PrimRef& prim = s.prims[light.prim];
+  bool twoSided = light.twoSided != 0;
+  switch (prim.Type()) {
+    case ShapeType::kQuad:
+      return AreaToSolidAnglePdf(refP, pLight, nLight, QuadArea(s.quads[prim.Index()]), twoSided);
+    case ShapeType::kTriangle:
+      return AreaToSolidAnglePdf(refP, pLight, nLight, TriangleArea(s.triangles[prim.Index()]),
+                                 twoSided);
+    case ShapeType::kSphere: {
+      const Sphere& sp = s.spheres[prim.Index()];
+      SphereCone cone;
+      if (SphereConeFrom(sp, refP, &cone)) return SphereConePdf(cone);
+      return AreaToSolidAnglePdf(refP, pLight, nLight, SphereArea(sp), twoSided);
+    }
+  }
+  return 0.0f;
+}
+
+// Picks a point on an area light's shape: *p, unit *n (the shape's front) and *solidAnglePdf.
+PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, vec2 u, vec3* p,
+                            vec3* n, float* solidAnglePdf) {
+  const PrimRef& prim = s.prims[light.prim];
+  switch (prim.Type()) {
+    case ShapeType::kQuad: {
+      const Quad& q = s.quads[prim.Index()];
+      *p = q.origin + u.x * q.u + u.y * q.v;
+      *n = glm::normalize(glm::cross(q.u, q.v));
+      break;
+    }
+    case ShapeType::kTriangle: {
+      const Triangle& t = s.triangles[prim.Index()];
+      vec2 b = SampleUniformTriangle(u);
+      *p = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
+      *n = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+      break;
+    }
+    case ShapeType::kSphere: {
+      const Sphere& sp = s.spheres[prim.Index()];
+      SphereCone cone;
+      if (SphereConeFrom(sp, refP, &cone)) {
+        SampleSphereCone(sp, refP, cone, u, p, n);
+        *solidAnglePdf = SphereConePdf(cone);  // the visible cap faces refP by construction
+        return isfinite(*solidAnglePdf);
+      }
+      *n = SampleUniformSphere(u);  // refP inside: uniform by area
+      *p = sp.center + sp.radius * (*n);
+      break;
+    }
+  }
+  *solidAnglePdf = AreaLightPdf(s, light, refP, *p, *n);
+  return *solidAnglePdf > 0.0f;
+}
+
+// ---- Entry points ----
+
+// Chooses a light with uLight (by power) and a point or direction on it with u.
+// Returns false when the sample carries no light (back face of a one-sided emitter, degenerate
+// geometry, no lights); the caller then skips the shadow ray.
+PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
+                          LightLiSample* out) {
+  int index = SampleLightIndex(s, uLight);
+  if (index < 0) return false;
+  float pmf = s.lightPmf[index];
+  if (!(pmf > 0.0f)) return false;
+  const Light& light = s.lights[index];
+  out->lightIndex = index;
+  out->isDelta = false;
+  out->isInfinite = false;
+  switch (light.type) {
+    case LightType::kArea: {
+      vec3 p, n;
+      float pdf;
+      if (!SampleAreaLight(s, light, refP, u, &p, &n, &pdf)) return false;
+      out->wi = glm::normalize(p - refP);
+      out->L = light.radiance;
+      out->pdf = pmf * pdf;
+      out->pLight = p;
+      out->nLight = n;
+      return true;
+    }
+    case LightType::kPoint: {
+      vec3 d = light.position - refP;
+      float dist2 = glm::dot(d, d);
+      if (dist2 == 0.0f) return false;
+      out->wi = d / sqrtf(dist2);
+      out->L = light.intensity / dist2;
+      out->pdf = pmf;
+      out->pLight = light.position;
+      out->nLight = vec3(0.0f);
+      out->isDelta = true;
+      return true;
+    }
+    case LightType::kBackground: {
+      vec3 wi = SampleUniformSphere(u);
+      out->wi = wi;
+      out->L = light.radiance;
+      out->pdf = pmf * UniformSpherePdf();
+      // A point surely outside the scene's bounding sphere; shadow rays should still be
+      // traced unbounded (isInfinite).
+      float reach = 2.0f * (s.sceneRadius + glm::length(refP - s.sceneCenter));
+      out->pLight = refP + reach * wi;
+      out->nLight = -wi;
+      out->isInfinite = true;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Solid-angle pdf, with the choice probability, that SampleLightLi from refP produces the
+// point pLight (unit geometric normal nLight, the shape's front) of light lightIndex. For MIS
+// when a BSDF-sampled ray hits an emitter. 0 for point lights (they cannot be hit).
+PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight, vec3 nLight) {
+  if (lightIndex < 0 || uint32_t(lightIndex) >= s.lightCount) return 0.0f;
+  const Light& light = s.lights[lightIndex];
+  float pmf = s.lightPmf[lightIndex];
+  switch (light.type) {
+    case LightType::kArea: return pmf * AreaLightPdf(s, light, refP, pLight, nLight);
+    case LightType::kPoint: return 0.0f;
+    case LightType::kBackground: return pmf * UniformSpherePdf();
+  }
+  return 0.0f;
+}
+
+// Pdf of an escaped ray's direction under the background light's sampling (choice included);
+// 0 when the background is black (it is then not a light).
+PT_HDI float BackgroundLightPdf(const SceneView& s) {
+  if (s.backgroundLight < 0) return 0.0f;
+  return s.lightPmf[s.backgroundLight] * UniformSpherePdf();
+}
+
+}  // namespace pt

@@ -1,0 +1,94 @@
+#include "src/lights/light_table.h"
+
+#include "src/lights/light_sample.h"
+
+namespace pt {
+
+namespace {
+
+double PrimArea(const SceneDesc& desc, const PrimRef& prim) {
+  switch (prim.Type()) {
+    case ShapeType::kQuad: return QuadArea(desc.quads[prim.Index()]);
+    case ShapeType::kTriangle: return TriangleArea(desc.triangles[prim.Index()]);
+    case ShapeType::kSphere: return SphereArea(desc.spheres[prim.Index()]);
+  }
+  return 0.0;
+}
+
+// Probabilities from powers. The cdf is accumulated in double and rounded once; each pmf is
+// then the float width of its cdf interval, so the probability a light is chosen and the pmf
+// its pdf is divided by agree, and a light of zero power is never chosen.
+void FillDistribution(const std::vector<double>& power, Scene& scene) {
+  size_t n = power.size();
+  double total = 0.0;
+  for (double p : power) total += (std::isfinite(p) && p > 0.0) ? p : 0.0;
+  bool uniform = !(total > 0.0) || !std::isfinite(total);  // no power at all: choose evenly
+  scene.lightCdf.assign(n + 1, 0.0f);
+  scene.lightPmf.assign(n, 0.0f);
+  double running = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double p = (std::isfinite(power[i]) && power[i] > 0.0) ? power[i] : 0.0;
+    running += uniform ? 1.0 : p;
+    scene.lightCdf[i + 1] = float(running / (uniform ? double(n) : total));
+  }
+  if (n > 0) scene.lightCdf[n] = 1.0f;
+  for (size_t i = 0; i < n; ++i) scene.lightPmf[i] = scene.lightCdf[i + 1] - scene.lightCdf[i];
+}
+
+}  // namespace
+
+double LightPower(const Scene& scene, const Light& light) {
+  switch (light.type) {
+    case LightType::kArea: {
+      double area = PrimArea(scene.desc, scene.prims[light.prim]);
+      double sides = light.twoSided ? 2.0 : 1.0;
+      return double(Luminance(light.radiance)) * area * double(kPi) * sides;
+    }
+    case LightType::kPoint: return 4.0 * double(kPi) * double(Luminance(light.intensity));
+    case LightType::kBackground: {
+      // pbrt-v4 UniformInfiniteLight::Phi: radiance over the disk of the bounding sphere.
+      double r = scene.sceneRadius;
+      return double(Luminance(light.radiance)) * 4.0 * double(kPi) * double(kPi) * r * r;
+    }
+  }
+  return 0.0;
+}
+
+void BuildLightTable(Scene& scene) {
+  const SceneDesc& desc = scene.desc;
+  scene.lights.clear();
+  scene.backgroundLight = -1;
+  for (size_t i = 0; i < scene.prims.size(); ++i) {
+    PrimRef& prim = scene.prims[i];
+    prim.light = -1;
+    const Material& m = desc.materials[prim.material];
+    if (m.type != MaterialType::kEmissive || IsBlack(m.radiance)) continue;
+    Light light;
+    light.type = LightType::kArea;
+    light.prim = uint32_t(i);
+    light.radiance = m.radiance;
+    light.twoSided = m.twoSided;
+    prim.light = int32_t(scene.lights.size());
+    scene.lights.push_back(light);
+  }
+  for (const PointLightDesc& point : desc.pointLights) {
+    Light light;
+    light.type = LightType::kPoint;
+    light.position = point.position;
+    light.intensity = point.intensity;
+    scene.lights.push_back(light);
+  }
+  if (!IsBlack(desc.background)) {
+    Light light;
+    light.type = LightType::kBackground;
+    light.radiance = desc.background;
+    scene.backgroundLight = int32_t(scene.lights.size());
+    scene.lights.push_back(light);
+  }
+  std::vector<double> power;
+  power.reserve(scene.lights.size());
+  for (const Light& light : scene.lights) power.push_back(LightPower(scene, light));
+  FillDistribution(power, scene);
+}
+
+}  // namespace pt

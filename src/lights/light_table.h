@@ -1,0 +1,19 @@
+// Host-side construction of the light table: which primitives emit, the point lights and the
+// background, and the power-proportional probabilities next-event estimation chooses them by.
+#pragma once
+
+#include "src/scene/scene.h"
+
+namespace pt {
+
+// Estimated emitted power (luminance) that the light choice is proportional to.
+double LightPower(const Scene& scene, const Light& light);
+
+// Fills scene.lights, scene.lightPmf / lightCdf and scene.backgroundLight, and sets
+// PrimRef::light on emitting primitives (-1 elsewhere). Expects scene.prims in BVH order with
+// materials set, scene.desc (materials, shapes, point lights, background) and the bounding
+// sphere scene.sceneCenter / sceneRadius. Light order: area lights in PrimRef order, then point
+// lights in file order, then the background when it is not black.
+void BuildLightTable(Scene& scene);
+
+}  // namespace pt

@@ -1,0 +1,52 @@
+// Helpers for tests that render whole scenes: load from inline JSON, render on a backend,
+// and compare images statistically with tolerances derived from the film's own variance.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "src/integrator/render_api.h"
+#include "src/io/scene_loader.h"
+
+namespace pt::test {
+
+inline Scene SceneFromJson(const std::string& json) {
+  return BuildScene(LoadSceneFromString(json, "inline-test-scene.json", "."));
+}
+
+inline RenderResult RenderOnCpu(const Scene& scene, RenderOptions options = {}) {
+  if (options.threads == 0) options.threads = 2;
+  return RenderCpu(scene, options);
+}
+
+// Mean of channel c over a pixel window, and the variance of that mean (pixels independent).
+struct WindowMean {
+  double mean = 0.0;
+  double varianceOfMean = 0.0;
+};
+
+inline WindowMean MeanOverWindow(const FilmImage& img, int c, int x0, int y0, int x1, int y1) {
+  WindowMean w;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      size_t i = size_t(y) * img.width + x;
+      w.mean += img.rgb[3 * i + c];
+      w.varianceOfMean += img.variance[3 * i + c] / std::max(1u, img.samples[i]);
+      ++n;
+    }
+  w.mean /= n;
+  w.varianceOfMean /= double(n) * n;
+  return w;
+}
+
+inline WindowMean MeanOverImage(const FilmImage& img, int c) {
+  return MeanOverWindow(img, c, 0, 0, img.width, img.height);
+}
+
+// Two-sided normal quantiles: z such that P(|Z| > z) = p.
+constexpr double kZ1e4 = 3.8906;   // p = 1e-4
+constexpr double kZ1e5 = 4.4172;   // p = 1e-5
+
+}  // namespace pt::test
