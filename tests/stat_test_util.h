@@ -93,6 +93,7 @@ struct ChiSquareOptions {
   int thetaBins = 16;     // over [0, pi]
   int phiBins = 32;       // over [0, 2 pi)
   int integration = 8;    // Simpson sub-intervals per bin and axis (even)
+  int refine = 0;         // > integration: sub-intervals for bins where the pdf jumps (even)
   double minExpected = 5; // bins expecting fewer samples are pooled
 };
 
@@ -113,26 +114,40 @@ inline pt::vec3 SphericalToDirection(double theta, double phi) {
   return pt::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(std::cos(theta)));
 }
 
-// Expected probability of each (theta, phi) bin: composite Simpson's rule of pdf * sin(theta).
+// Composite Simpson's rule of pdf * sin(theta) over one bin with m x m sub-intervals; also
+// reports the smallest and largest pdf value it saw.
+inline double IntegrateBin(const DirectionPdf& pdf, double theta0, double phi0, double dTheta,
+                           double dPhi, int m, double* minPdf, double* maxPdf) {
+  double hTheta = dTheta / m, hPhi = dPhi / m, sum = 0.0;
+  auto weight = [m](int i) { return (i == 0 || i == m) ? 1.0 : (i % 2 ? 4.0 : 2.0); };
+  *minPdf = INFINITY;
+  *maxPdf = -INFINITY;
+  for (int i = 0; i <= m; ++i) {
+    double theta = theta0 + i * hTheta;
+    for (int j = 0; j <= m; ++j) {
+      double value = pdf(SphericalToDirection(theta, phi0 + j * hPhi));
+      *minPdf = std::min(*minPdf, value);
+      *maxPdf = std::max(*maxPdf, value);
+      sum += weight(i) * weight(j) * value * std::sin(theta);
+    }
+  }
+  return sum * hTheta * hPhi / 9.0;
+}
+
+// Expected probability of each (theta, phi) bin. Simpson's rule converges only linearly
+// across a discontinuity (a light's outline), so with o.refine > 0 a bin whose pdf samples
+// vary by more than 1% is integrated again with o.refine sub-intervals per axis.
 inline std::vector<double> IntegratePdfOverBins(const DirectionPdf& pdf,
                                                 const ChiSquareOptions& o) {
   std::vector<double> prob(size_t(o.thetaBins) * o.phiBins, 0.0);
   double dTheta = M_PI / o.thetaBins, dPhi = 2.0 * M_PI / o.phiBins;
-  int m = o.integration;
-  double hTheta = dTheta / m, hPhi = dPhi / m;
-  auto weight = [m](int i) { return (i == 0 || i == m) ? 1.0 : (i % 2 ? 4.0 : 2.0); };
   for (int t = 0; t < o.thetaBins; ++t) {
     for (int p = 0; p < o.phiBins; ++p) {
-      double sum = 0.0;
-      for (int i = 0; i <= m; ++i) {
-        double theta = t * dTheta + i * hTheta;
-        for (int j = 0; j <= m; ++j) {
-          double phi = p * dPhi + j * hPhi;
-          sum += weight(i) * weight(j) * pdf(SphericalToDirection(theta, phi)) *
-                 std::sin(theta);
-        }
-      }
-      prob[size_t(t) * o.phiBins + p] = sum * hTheta * hPhi / 9.0;
+      double lo, hi;
+      double v = IntegrateBin(pdf, t * dTheta, p * dPhi, dTheta, dPhi, o.integration, &lo, &hi);
+      if (o.refine > o.integration && hi - lo > 0.01 * hi)
+        v = IntegrateBin(pdf, t * dTheta, p * dPhi, dTheta, dPhi, o.refine, &lo, &hi);
+      prob[size_t(t) * o.phiBins + p] = v;
     }
   }
   return prob;

@@ -24,7 +24,6 @@ class ValueSource {
       : option_(std::move(option)), inline_(std::move(inlineValue)), args_(args), next_(next) {}
 
   const std::string& Option() const { return option_; }
-  bool HasInline() const { return inline_.has_value(); }
 
   // The option's value; a following `--option` is not taken as one.
   std::string Take() {
@@ -100,8 +99,8 @@ void AcceptOnly(ValueSource& src, const std::string& accepted,
 CropWindow ParseCrop(ValueSource& src) {
   std::vector<std::string> parts;
   std::string first = src.Take();
-  if (src.HasInline() || first.find(',') != std::string::npos) {
-    size_t start = 0;  // --crop=X0,Y0,X1,Y1
+  if (first.find(',') != std::string::npos) {
+    size_t start = 0;  // --crop=X0,Y0,X1,Y1 or --crop X0,Y0,X1,Y1
     for (size_t comma; (comma = first.find(',', start)) != std::string::npos; start = comma + 1) {
       parts.push_back(first.substr(start, comma - start));
     }
@@ -128,6 +127,7 @@ std::string TakePath(ValueSource& src) {
 
 using Handler = std::function<void(CliOptions&, ValueSource&)>;
 
+// Options that take a file or a number.
 const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
   static const std::vector<std::pair<std::string, Handler>> table = {
       {"-o", [](CliOptions& o, ValueSource& s) { o.outputPath = TakePath(s); }},
@@ -143,19 +143,31 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
        [](CliOptions& o, ValueSource& s) {
          o.seed = uint32_t(ParseInteger(s.Option(), s.Take(), 0, UINT32_MAX));
        }},
+      {"--threads", [](CliOptions& o, ValueSource& s) { o.threads = ParseInt(s, 0, 1 << 16); }},
+      {"--time-limit",
+       [](CliOptions& o, ValueSource& s) { o.timeLimitSeconds = ParsePositiveSeconds(s); }},
+      {"--preview-every",
+       [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
+      {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
          o.rrDepth = text == "off" ? kRussianRouletteOff
                                    : int(ParseInteger(s.Option(), text, 0, 1 << 16));
        }},
+  };
+  return table;
+}
+
+// Options that pick one of a few named values.
+const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
+  static const std::vector<std::pair<std::string, Handler>> table = {
       {"--backend",
        [](CliOptions& o, ValueSource& s) {
          o.backend = ParseChoice<BackendKind>(
              s, {{"auto", BackendKind::kAuto}, {"cpu", BackendKind::kCpu},
                  {"cuda", BackendKind::kCuda}});
        }},
-      {"--threads", [](CliOptions& o, ValueSource& s) { o.threads = ParseInt(s, 0, 1 << 16); }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(
@@ -175,11 +187,6 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
              s, {{"mis", IntegratorMode::kMis}, {"bsdf", IntegratorMode::kBsdf},
                  {"nee", IntegratorMode::kNee}});
        }},
-      {"--time-limit",
-       [](CliOptions& o, ValueSource& s) { o.timeLimitSeconds = ParsePositiveSeconds(s); }},
-      {"--preview-every",
-       [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
-      {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
   };
   return table;
 }
@@ -222,7 +229,7 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
 }
 
 const Handler* FindHandler(const std::string& name) {
-  for (const auto* table : {&ValueOptions(), &LaterOptions()}) {
+  for (const auto* table : {&ValueOptions(), &ChoiceOptions(), &LaterOptions()}) {
     for (const auto& [option, handler] : *table) {
       if (option == name) return &handler;
     }

@@ -126,16 +126,17 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
   return cut;
 }
 
-RenderFunction ChooseBackend(BackendKind kind, const AppBackends& backends) {
+// auto: CUDA when it is built and a GPU is present, else the CPU.
+BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
   int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
   bool cudaReady = backends.renderCuda != nullptr && gpus > 0;
-  if (kind == BackendKind::kCuda && !cudaReady) {
+  if (requested == BackendKind::kCuda && !cudaReady) {
     throw AppFailure{kExitRuntimeFailure,
                      backends.renderCuda ? "--backend cuda: no CUDA device found"
                                          : "--backend cuda: this build has no CUDA backend"};
   }
-  if (kind == BackendKind::kCpu || !cudaReady) return backends.renderCpu;
-  return backends.renderCuda;
+  bool useCuda = requested != BackendKind::kCpu && cudaReady;
+  return useCuda ? BackendKind::kCuda : BackendKind::kCpu;
 }
 
 void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
@@ -145,7 +146,6 @@ void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
 
 RenderOptions MakeRenderOptions(const CliOptions& cli, const std::vector<float>* reference) {
   RenderOptions options;
-  options.backend = cli.backend;
   options.threads = cli.threads;
   options.compact = cli.compact;
   options.sort = cli.sort;
@@ -157,8 +157,8 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, const std::vector<float>*
   return options;
 }
 
-RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction render,
-                    const std::vector<float>* reference) {
+RenderResult Render(const CliOptions& cli, const Scene& scene, BackendKind backend,
+                    RenderFunction render, const std::vector<float>* reference) {
   ProgressBar progress(cli.quiet);
   RenderCallbacks callbacks;
   callbacks.shouldStop = [] { return gInterrupted.load(std::memory_order_relaxed); };
@@ -174,8 +174,10 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction re
       }
     };
   }
+  RenderOptions options = MakeRenderOptions(cli, reference);
+  options.backend = backend;  // resolved: never kAuto here
   try {
-    RenderResult result = render(scene, MakeRenderOptions(cli, reference), callbacks);
+    RenderResult result = render(scene, options, callbacks);
     progress.Finish();
     return result;
   } catch (const BackendUnavailable& e) {
@@ -203,10 +205,11 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   Scene scene = Build(std::move(desc), &times.bvhBuildMs);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
-  RenderFunction render = ChooseBackend(cli.backend, backends);
+  BackendKind backend = ChooseBackend(cli.backend, backends);
+  RenderFunction render = backend == BackendKind::kCuda ? backends.renderCuda : backends.renderCpu;
   InstallSigintHandler();
   RenderResult result =
-      Render(cli, scene, render, cli.referencePath.empty() ? nullptr : &reference);
+      Render(cli, scene, backend, render, cli.referencePath.empty() ? nullptr : &reference);
   bool interrupted = gInterrupted.load();
   result.stats.interrupted = result.stats.interrupted || interrupted;
   try {

@@ -13,6 +13,11 @@
 
 namespace pt {
 
+// The C++ overloads (CUDA supplies device versions of these too).
+using std::isfinite;
+using std::isinf;
+using std::isnan;
+
 using glm::vec2;
 using glm::vec3;
 using glm::vec4;

@@ -4,6 +4,13 @@
 
 namespace pt {
 
+std::string OneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  std::string out;
+  for (char c : text) out += (c == '\n') ? std::string("; ") : std::string(1, c);
+  return out;
+}
+
 bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2) {
   if (!IsFinite(p0) || !IsFinite(p1) || !IsFinite(p2)) return true;
   // The renderer's normal is this float cross product: it must be non-zero and finite.

@@ -12,6 +12,9 @@ namespace pt {
 // normal, so the loaders skip it (and count it).
 bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2);
 
+// A library's multi-line message as one line (newlines become "; ").
+std::string OneLine(std::string text);
+
 // Receives one mesh file's triangles. Positions are transformed in double precision by the
 // current transform (node transforms composed with the object's); normals by its inverse
 // transpose.

@@ -1,6 +1,5 @@
 #include "src/io/scene_json.h"
 
-#include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -13,7 +12,7 @@ namespace {
 
 // One open object or array while parsing: the keys seen so far (objects) or the element count.
 struct ParseFrame {
-  bool isObject = true;
+  bool isObject;
   std::set<std::string> keys;
   std::string currentKey;
   int64_t index = -1;
@@ -81,11 +80,11 @@ Json ParseSceneJson(const std::string& text, const std::string& file) {
     switch (event) {
       case Json::parse_event_t::object_start:
         elementStarts();
-        frames.push_back(ParseFrame{true});
+        frames.push_back(ParseFrame{true, {}, {}, -1});
         break;
       case Json::parse_event_t::array_start:
         elementStarts();
-        frames.push_back(ParseFrame{false});
+        frames.push_back(ParseFrame{false, {}, {}, -1});
         break;
       case Json::parse_event_t::object_end:
       case Json::parse_event_t::array_end:
@@ -111,6 +110,11 @@ Json ParseSceneJson(const std::string& text, const std::string& file) {
   };
   try {
     return Json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const Json::out_of_range& e) {
+    // A number too large for a double ("1e999"): the value being read is the failing one.
+    if (!frames.empty() && !frames.back().isObject) frames.back().index++;
+    FailAt(file, FramesPath(frames, frames.size()),
+           StripExceptionId(e.what()) + " (not a finite number)");
   } catch (const Json::parse_error& e) {
     std::string near = FramesPath(frames, frames.size());
     FailAt(file, "",
@@ -135,26 +139,26 @@ float JsonValue::Number(Range range) const {
 }
 
 int64_t JsonValue::Integer(int64_t lo, int64_t hi) const {
+  auto outside = [&](const std::string& value) {
+    Fail(value + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  };
   int64_t v = 0;
-  if (json_->is_number_integer() && !json_->is_number_unsigned()) {
-    v = json_->get<int64_t>();
-  } else if (json_->is_number_unsigned()) {
+  if (json_->is_number_unsigned()) {
     uint64_t u = json_->get<uint64_t>();
-    if (u > uint64_t(hi)) Fail(FormatNumber(double(u)) + " is outside [" + std::to_string(lo) +
-                               ", " + std::to_string(hi) + "]");
+    if (u > uint64_t(hi)) outside(std::to_string(u));
     v = int64_t(u);
+  } else if (json_->is_number_integer()) {
+    v = json_->get<int64_t>();
   } else if (json_->is_number_float()) {
     // 1e3 means 1000; 1.5 is not an integer.
     double d = json_->get<double>();
-    if (!std::isfinite(d)) Fail(FormatNumber(d) + " is not a finite number");
-    if (d != std::floor(d) || std::fabs(d) > 9.0e15) Fail("expected an integer, got " + FormatNumber(d));
+    if (d != std::floor(d)) Fail("expected an integer, got " + FormatNumber(d));
+    if (d < double(lo) || d > double(hi)) outside(FormatNumber(d));
     v = int64_t(d);
   } else {
     Fail(std::string("expected an integer, got ") + TypeName(*json_));
   }
-  if (v < lo || v > hi) {
-    Fail(std::to_string(v) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
+  if (v < lo || v > hi) outside(std::to_string(v));
   return v;
 }
 

@@ -59,6 +59,11 @@ class JsonValue {
   bool Bool() const;
   size_t ArraySize() const;                                  // checks it is an array
   JsonValue Element(size_t i) const;                         // path "x[i]"
+
+ private:
+  const Json* json_;
+  std::string path_;
+  const std::string* file_;
 };
 
 // A JSON object: fields by name, each read marking its path. Unknown keys are refused by

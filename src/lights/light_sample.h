@@ -104,7 +104,7 @@ PT_HDI float AreaToSolidAnglePdf(vec3 refP, vec3 pLight, vec3 nLight, float area
   float cosLight = -glm::dot(nLight, d) / sqrtf(dist2);
   if (cosLight == 0.0f || (!twoSided && cosLight < 0.0f)) return 0.0f;
   float pdf = dist2 / (fabsf(cosLight) * area);
-  return isfinite(pdf) ? pdf : 0.0f;
+  return pdf < kInfinity ? pdf : 0.0f;  // false for inf and NaN
 }
 
 // Solid-angle pdf (without the choice probability) of an area light's point as
@@ -153,7 +153,7 @@ PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, v
       if (SphereConeFrom(sp, refP, &cone)) {
         SampleSphereCone(sp, refP, cone, u, p, n);
         *solidAnglePdf = SphereConePdf(cone);  // the visible cap faces refP by construction
-        return isfinite(*solidAnglePdf);
+        return *solidAnglePdf < kInfinity;
       }
       *n = SampleUniformSphere(u);  // refP inside: uniform by area
       *p = sp.center + sp.radius * (*n);

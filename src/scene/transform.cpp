@@ -74,13 +74,13 @@ glm::mat4 TrsMatrix(vec3 scale, vec3 rotateDegrees, vec3 translate) {
                         AxisRotation(0, rotateDegrees.x);
   glm::dmat3 linear = rotation * glm::dmat3(glm::dvec3(scale.x, 0, 0), glm::dvec3(0, scale.y, 0),
                                             glm::dvec3(0, 0, scale.z));
-  glm::mat4 m(glm::mat3(linear));
+  glm::mat4 m = glm::mat4(glm::mat3(linear));
   m[3] = vec4(translate, 1.0f);
   return m;
 }
 
 bool UniformScaleOf(const glm::mat4& m, float* scale) {
-  glm::dmat3 a(glm::mat3(m));
+  glm::dmat3 a = glm::dmat3(glm::mat3(m));
   glm::dmat3 gram = glm::transpose(a) * a;  // s^2 * I exactly when a = s * orthogonal
   double s2 = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
   if (!(s2 > 0.0) || !std::isfinite(s2)) return false;

@@ -2,6 +2,7 @@
 // inside its pixel (a one-pixel box filter).
 #pragma once
 
+#include "src/core/ray.h"
 #include "src/core/sampling.h"
 #include "src/integrator/path_state.h"
 #include "src/integrator/wave.h"

@@ -1,0 +1,321 @@
+// Ray-shape intersection for the three shapes (triangle, parallelogram, sphere), the surface
+// description rebuilt from a hit, and shape bounds. Everything here runs on host and device.
+// Ray directions are unit length and origins are already pushed off their surface by
+// OffsetRayOrigin, so there are no epsilons: a hit needs 0 < t < tMax, and each test rejects
+// t that its own rounding error cannot tell from 0 (pbrt-v4's conservative tests).
+#pragma once
+
+#include "src/core/ray.h"
+#include "src/geometry/aabb.h"
+#include "src/geometry/interaction.h"
+#include "src/scene/scene_view.h"
+
+namespace pt {
+
+namespace detail {
+
+// Component i of v by value. vec3::operator[] returns a reference, which makes nvcc spill the
+// vector to local memory when i is not a compile-time constant; selects stay in registers.
+PT_HDI float Component(vec3 v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : v.z); }
+
+// a*b - c*d rounded twice and never fused into an FMA: the watertight test needs the edge
+// function of a shared edge to come out as exactly the negation for the neighbouring triangle,
+// and a contracted FMA rounds the two orders differently.
+PT_HDI float EdgeFunction(float a, float b, float c, float d) {
+#if PT_IS_GPU_CODE
+  return __fsub_rn(__fmul_rn(a, b), __fmul_rn(c, d));
+#else
+  return a * b - c * d;
+#endif
+}
+
+// The same in double: products of floats are exact there, so the sign is exact.
+PT_HDI float EdgeFunctionDouble(float a, float b, float c, float d) {
+  return float(double(a) * double(b) - double(c) * double(d));
+}
+
+PT_HDI float MaxAbs(float a, float b, float c) {
+  return MaxIgnoreNan(MaxIgnoreNan(fabsf(a), fabsf(b)), fabsf(c));
+}
+
+// Per axis |a_y b_z| + |a_z b_y| etc.: bounds |cross(a, b)| including its rounding.
+PT_HDI vec3 AbsCross(vec3 a, vec3 b) {
+  return vec3(fabsf(a.y * b.z) + fabsf(a.z * b.y), fabsf(a.z * b.x) + fabsf(a.x * b.z),
+              fabsf(a.x * b.y) + fabsf(a.y * b.x));
+}
+
+}  // namespace detail
+
+// Per-ray constants of the watertight triangle test (Woop, Benthin, Wald 2013): the dominant
+// axis of d becomes z, and a shear maps d onto +z. Traversal computes it once per ray.
+struct TriangleRayData {
+  int kx, ky, kz;
+  float sx, sy, sz;
+
+  PT_HDI static TriangleRayData Make(vec3 d) {
+    TriangleRayData r;
+    r.kz = MaxDimension(Abs(d));
+    r.kx = r.kz == 2 ? 0 : r.kz + 1;
+    r.ky = r.kx == 2 ? 0 : r.kx + 1;
+    float dz = detail::Component(d, r.kz);
+    r.sx = -detail::Component(d, r.kx) / dz;
+    r.sy = -detail::Component(d, r.ky) / dz;
+    r.sz = 1.0f / dz;
+    return r;
+  }
+
+  // Vertex relative to the ray origin, permuted and sheared in x and y (z is scaled later).
+  PT_HDI vec3 Transform(vec3 p, vec3 o) const {
+    vec3 q = p - o;
+    float z = detail::Component(q, kz);
+    return vec3(detail::Component(q, kx) + sx * z, detail::Component(q, ky) + sy * z, z);
+  }
+};
+
+// Watertight ray-triangle test; both faces hit. bary = (b1, b2) with
+// p = (1 - b1 - b2) p0 + b1 p1 + b2 p2. Follows pbrt-v4's Triangle::Intersect in float, with
+// the double-precision edge functions on an exact 0 and the conservative t > 0 test.
+PT_HDI bool IntersectTriangle(const Triangle& tri, const Ray& ray, const TriangleRayData& rd,
+                              float tMax, float* tHit, vec2* bary) {
+  vec3 p0t = rd.Transform(tri.p0, ray.o);
+  vec3 p1t = rd.Transform(tri.p1, ray.o);
+  vec3 p2t = rd.Transform(tri.p2, ray.o);
+
+  float e0 = detail::EdgeFunction(p1t.x, p2t.y, p1t.y, p2t.x);
+  float e1 = detail::EdgeFunction(p2t.x, p0t.y, p2t.y, p0t.x);
+  float e2 = detail::EdgeFunction(p0t.x, p1t.y, p0t.y, p1t.x);
+  if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
+    e0 = detail::EdgeFunctionDouble(p1t.x, p2t.y, p1t.y, p2t.x);
+    e1 = detail::EdgeFunctionDouble(p2t.x, p0t.y, p2t.y, p0t.x);
+    e2 = detail::EdgeFunctionDouble(p0t.x, p1t.y, p0t.y, p1t.x);
+  }
+  if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f)) {
+    return false;
+  }
+  float det = e0 + e1 + e2;
+  if (det == 0.0f) return false;
+
+  // Scaled distance. Unlike pbrt, tMax is tested only on the divided t, so whether a triangle
+  // is accepted depends on its t alone, never on the order in which hits were found.
+  p0t.z *= rd.sz;
+  p1t.z *= rd.sz;
+  p2t.z *= rd.sz;
+  float tScaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+  if (det < 0.0f ? tScaled >= 0.0f : tScaled <= 0.0f) return false;
+  float invDet = 1.0f / det;
+  float t = tScaled * invDet;
+  if (!(t < tMax)) return false;
+
+  // t must exceed its own error bound (pbrt-v4, section 6.8.4) to count as > 0.
+  float maxZt = detail::MaxAbs(p0t.z, p1t.z, p2t.z);
+  float maxXt = detail::MaxAbs(p0t.x, p1t.x, p2t.x);
+  float maxYt = detail::MaxAbs(p0t.y, p1t.y, p2t.y);
+  float deltaZ = Gamma(3) * maxZt;
+  float deltaX = Gamma(5) * (maxXt + maxZt);
+  float deltaY = Gamma(5) * (maxYt + maxZt);
+  float deltaE = 2.0f * (Gamma(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+  float maxE = detail::MaxAbs(e0, e1, e2);
+  float deltaT = 3.0f * (Gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * fabsf(invDet);
+  if (t <= deltaT) return false;
+
+  *tHit = t;
+  *bary = vec2(e1 * invDet, e2 * invDet);
+  return true;
+}
+
+PT_HDI bool IntersectTriangle(const Triangle& tri, const Ray& ray, float tMax, float* tHit,
+                              vec2* bary) {
+  return IntersectTriangle(tri, ray, TriangleRayData::Make(ray.d), tMax, tHit, bary);
+}
+
+// The parallelogram origin + s*u + t*v, s,t in [0, 1]; both faces hit. The plane distance
+// N = dot(n, origin - o) must exceed its rounding bound (which also covers the rounding of
+// n = cross(u, v)), so a ray spawned off this quad never re-hits it and a wrong sign of N
+// never yields a hit.
+PT_HDI bool IntersectQuad(const Quad& q, const Ray& ray, float tMax, float* tHit, vec2* st) {
+  vec3 n = glm::cross(q.u, q.v);
+  float denom = glm::dot(n, ray.d);
+  vec3 toPlane = q.origin - ray.o;
+  float num = glm::dot(n, toPlane);
+  float t = num / denom;
+  if (!(t > 0.0f && t < tMax)) return false;  // also rejects denom == 0 (NaN or inf)
+  float numError = Gamma(6) * glm::dot(detail::AbsCross(q.u, q.v), Abs(q.origin) + Abs(ray.o));
+  if (fabsf(num) <= numError) return false;
+
+  vec3 rel = ray.d * t - toPlane;  // hit point relative to the quad origin
+  float invNn = 1.0f / glm::dot(n, n);
+  float s = glm::dot(n, glm::cross(rel, q.v)) * invNn;
+  float tt = glm::dot(n, glm::cross(q.u, rel)) * invNn;
+  if (!(s >= 0.0f && s <= 1.0f && tt >= 0.0f && tt <= 1.0f)) return false;
+  *tHit = t;
+  *st = vec2(s, tt);
+  return true;
+}
+
+// Sphere test as Ray Tracing Gems ch. 7: with f = o - c and unit d, the discriminant is
+// r^2 - |f - (f.d) d|^2 (no cancellation for distant origins), and the near root is c/q (no
+// cancellation between -b and the square root). A root whose numerator c = |f|^2 - r^2 is
+// within its rounding error of 0 sits at the ray origin: it is dropped, which is how a ray
+// spawned from the sphere avoids re-hitting it. Hits from inside return the far root.
+PT_HDI bool IntersectSphere(const Sphere& sph, const Ray& ray, float tMax, float* tHit) {
+  vec3 f = ray.o - sph.center;
+  float b = glm::dot(f, ray.d);
+  vec3 perp = f - b * ray.d;
+  float r2 = sph.radius * sph.radius;
+  float disc = r2 - glm::dot(perp, perp);
+  if (disc < 0.0f) return false;
+  float ff = glm::dot(f, f);
+  float c = ff - r2;
+  float q = -b - copysignf(sqrtf(disc), b);
+  bool nearUsable = fabsf(c) > Gamma(6) * (ff + r2);
+  float tA = nearUsable ? c / q : -1.0f;  // q == 0 only when c == 0 too
+  float tB = q;
+  float tNear = tA < tB ? tA : tB, tFar = tA < tB ? tB : tA;
+  float t = tNear > 0.0f ? tNear : tFar;
+  if (!(t > 0.0f && t < tMax)) return false;
+  *tHit = t;
+  return true;
+}
+
+// ---- Dispatch over PrimRef ----
+
+PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
+                          const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
+  PrimRef ref = s.prims[primIndex];
+  switch (ref.Type()) {
+    case ShapeType::kTriangle:
+      return IntersectTriangle(s.triangles[ref.Index()], ray, rd, tMax, tHit, uv);
+    case ShapeType::kQuad:
+      return IntersectQuad(s.quads[ref.Index()], ray, tMax, tHit, uv);
+    case ShapeType::kSphere:
+      *uv = vec2(0.0f);
+      return IntersectSphere(s.spheres[ref.Index()], ray, tMax, tHit);
+    default:
+      return false;
+  }
+}
+
+PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray, float tMax,
+                          float* tHit, vec2* uv) {
+  return IntersectPrim(s, primIndex, ray, TriangleRayData::Make(ray.d), tMax, tHit, uv);
+}
+
+// ---- Surface interaction ----
+
+namespace detail {
+
+PT_HDI void TriangleSurface(const SceneView& s, uint32_t index, vec2 bary, SurfaceInteraction* si) {
+  const Triangle& tri = s.triangles[index];
+  float b1 = bary.x, b2 = bary.y, b0 = 1.0f - b1 - b2;
+  // p0 + b1 e1 + b2 e2 rather than pbrt's sum b_i p_i: b0 = 1 - b1 - b2 is rounded in
+  // absolute terms, so b0 p0 can be off by eps |p0| where the bound only allows gamma(7) b0 |p0|.
+  // Here the exact value is on the triangle's plane whatever b1 and b2 are.
+  vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
+  vec3 t1 = b1 * e1, t2 = b2 * e2;
+  si->p = tri.p0 + t1 + t2;
+  si->pError = Gamma(7) * (Abs(tri.p0) + Abs(t1) + Abs(t2));
+  si->ng = glm::normalize(glm::cross(e1, e2));
+  si->ns = si->ng;
+  if (s.triangleNormals == nullptr) return;
+  const TriangleNormals& tn = s.triangleNormals[index];
+  vec3 ns = b0 * tn.n0 + b1 * tn.n1 + b2 * tn.n2;
+  float len2 = glm::dot(ns, ns);
+  if (!(len2 > 0.0f && len2 < kInfinity)) return;  // no vertex normals (all zero), or cancelled
+  ns *= 1.0f / sqrtf(len2);
+  si->ns = glm::dot(ns, si->ng) < 0.0f ? -ns : ns;
+}
+
+PT_HDI void QuadSurface(const Quad& q, vec2 st, SurfaceInteraction* si) {
+  vec3 su = st.x * q.u, tv = st.y * q.v;
+  si->p = q.origin + su + tv;
+  si->pError = Gamma(7) * (Abs(q.origin) + Abs(su) + Abs(tv));
+  si->ng = glm::normalize(glm::cross(q.u, q.v));
+  si->ns = si->ng;
+}
+
+// Reprojects o + t d onto the sphere. The local offset has error gamma(5)|local| (pbrt-v4's
+// object-space bound); adding the world-space centre rounds once more (gamma(2)|p| is generous).
+PT_HDI void SphereSurface(const Sphere& sph, const Ray& ray, float t, SurfaceInteraction* si) {
+  vec3 local = (ray.o + t * ray.d) - sph.center;
+  float len = glm::length(local);
+  vec3 n = len > 0.0f ? local / len : vec3(0.0f, 1.0f, 0.0f);
+  local = sph.radius * n;
+  si->p = sph.center + local;
+  si->pError = Gamma(5) * Abs(local) + Gamma(2) * Abs(si->p);
+  si->ng = n;
+  si->ns = n;
+  // (phi, theta) about +Y (the scene's up), each mapped to [0, 1].
+  float phi = atan2f(n.z, n.x);
+  if (phi < 0.0f) phi += 2.0f * kPi;
+  si->uv = vec2(phi * (0.5f * kInvPi), acosf(fminf(fmaxf(n.y, -1.0f), 1.0f)) * kInvPi);
+}
+
+}  // namespace detail
+
+// The full surface at a hit found by IntersectClosest (hit.prim != kNoHit).
+// uv: triangle (b1, b2), quad (s, t), sphere (phi / 2pi, theta / pi) about +Y.
+PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
+                                          const HitRecord& hit) {
+  PrimRef ref = s.prims[hit.prim];
+  SurfaceInteraction si;
+  si.uv = hit.uv;
+  si.material = ref.material;
+  si.light = ref.light;
+  switch (ref.Type()) {
+    case ShapeType::kTriangle:
+      detail::TriangleSurface(s, ref.Index(), hit.uv, &si);
+      break;
+    case ShapeType::kQuad:
+      detail::QuadSurface(s.quads[ref.Index()], hit.uv, &si);
+      break;
+    default:
+      detail::SphereSurface(s.spheres[ref.Index()], ray, hit.t, &si);
+      break;
+  }
+  return si;
+}
+
+// ---- Bounds (conservative: rounding of computed corners is padded outwards) ----
+
+PT_HDI Aabb TriangleBounds(const Triangle& tri) {
+  Aabb b = Aabb::FromPoints(tri.p0, tri.p1);
+  b.Extend(tri.p2);
+  return b;
+}
+
+PT_HDI Aabb QuadBounds(const Quad& q) {
+  Aabb b = Aabb::FromPoints(q.origin, q.origin + q.u);
+  b.Extend(q.origin + q.v);
+  b.Extend(q.origin + q.u + q.v);
+  vec3 pad = Gamma(3) * (Abs(q.origin) + Abs(q.u) + Abs(q.v));
+  b.lo -= pad;
+  b.hi += pad;
+  return b;
+}
+
+PT_HDI Aabb SphereBounds(const Sphere& sph) {
+  vec3 r = vec3(fabsf(sph.radius));
+  vec3 pad = Gamma(2) * (Abs(sph.center) + r);
+  Aabb b;
+  b.lo = sph.center - r - pad;
+  b.hi = sph.center + r + pad;
+  return b;
+}
+
+PT_HDI Aabb PrimBounds(const Triangle& tri) { return TriangleBounds(tri); }
+PT_HDI Aabb PrimBounds(const Quad& q) { return QuadBounds(q); }
+PT_HDI Aabb PrimBounds(const Sphere& sph) { return SphereBounds(sph); }
+
+PT_HDI Aabb PrimBounds(const SceneView& s, uint32_t primIndex) {
+  PrimRef ref = s.prims[primIndex];
+  switch (ref.Type()) {
+    case ShapeType::kTriangle:
+      return PrimBounds(s.triangles[ref.Index()]);
+    case ShapeType::kQuad:
+      return PrimBounds(s.quads[ref.Index()]);
+    default:
+      return PrimBounds(s.spheres[ref.Index()]);
+  }
+}
+
+}  // namespace pt

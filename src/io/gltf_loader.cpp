@@ -1,0 +1,308 @@
+#include "src/io/gltf_loader.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+namespace pt {
+namespace {
+
+constexpr int kMaxNodeDepth = 256;  // deeper is a cycle (glTF forbids them) or abuse
+
+// Textures are not used yet: keep tinygltf from decoding images (seconds for large models).
+bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+               const unsigned char*, int, void*) {
+  return true;
+}
+
+[[noreturn]] void Malformed(const std::string& what) { throw std::runtime_error(what); }
+
+bool HasGlbMagic(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  return in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0;
+}
+
+tinygltf::Model ReadModel(const std::string& path, MeshSink& sink) {
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(SkipImage, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = HasGlbMagic(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                              : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!ok) Malformed("cannot load glTF: " + (err.empty() ? "unknown error" : OneLine(err)));
+  if (!warn.empty()) sink.Warn("glTF reader: " + OneLine(warn));
+  return model;
+}
+
+// One component of any glTF component type as a double (exact for every integer type).
+double ReadComponent(const unsigned char* p, int type, bool normalized) {
+  auto load = [p](auto v) { std::memcpy(&v, p, sizeof(v)); return v; };
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(float());
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      double v = load(int8_t());
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load(uint8_t()) / (normalized ? 255.0 : 1.0);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      double v = load(int16_t());
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return load(uint16_t()) / (normalized ? 65535.0 : 1.0);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load(uint32_t());
+    default: Malformed("unsupported accessor component type " + std::to_string(type));
+  }
+}
+
+// Bytes [offset, offset + (count - 1) * stride + elementSize) of a buffer view, bounds checked.
+const unsigned char* ViewBytes(const tinygltf::Model& model, int viewIndex, size_t offset,
+                               size_t count, size_t stride, size_t elementSize) {
+  if (viewIndex < 0 || size_t(viewIndex) >= model.bufferViews.size()) {
+    Malformed("buffer view " + std::to_string(viewIndex) + " does not exist");
+  }
+  const tinygltf::BufferView& view = model.bufferViews[viewIndex];
+  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
+    Malformed("buffer view " + std::to_string(viewIndex) + " names a missing buffer");
+  }
+  const std::vector<unsigned char>& data = model.buffers[view.buffer].data;
+  size_t needed = count == 0 ? 0 : offset + (count - 1) * stride + elementSize;
+  if (view.byteOffset + view.byteLength > data.size() || needed > view.byteLength) {
+    Malformed("buffer view " + std::to_string(viewIndex) + " reads past its buffer");
+  }
+  return data.data() + view.byteOffset + offset;
+}
+
+// Every element of an accessor (components per element checked), sparse substitution applied.
+std::vector<double> ReadAccessor(const tinygltf::Model& model, int index, int components) {
+  if (index < 0 || size_t(index) >= model.accessors.size()) {
+    Malformed("accessor " + std::to_string(index) + " does not exist");
+  }
+  const tinygltf::Accessor& a = model.accessors[index];
+  std::string name = "accessor " + std::to_string(index);
+  if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != components) {
+    Malformed(name + " has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(a.type))) +
+              " components per element, expected " + std::to_string(components));
+  }
+  int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
+  if (componentSize <= 0) Malformed(name + " has an unknown component type");
+  std::vector<double> out(a.count * components, 0.0);  // no buffer view: zeros (then sparse)
+  if (a.bufferView >= 0) {
+    if (size_t(a.bufferView) >= model.bufferViews.size()) Malformed(name + " names a missing view");
+    int stride = a.ByteStride(model.bufferViews[a.bufferView]);
+    if (stride <= 0) Malformed(name + " has an invalid byte stride");
+    const unsigned char* base = ViewBytes(model, a.bufferView, a.byteOffset, a.count, stride,
+                                          size_t(componentSize) * components);
+    for (size_t i = 0; i < a.count; ++i) {
+      for (int c = 0; c < components; ++c) {
+        out[i * components + c] =
+            ReadComponent(base + i * stride + c * componentSize, a.componentType, a.normalized);
+      }
+    }
+  }
+  if (a.sparse.isSparse) {
+    const auto& s = a.sparse;
+    int indexSize = tinygltf::GetComponentSizeInBytes(uint32_t(s.indices.componentType));
+    if (indexSize <= 0 || s.count < 0) Malformed(name + " has malformed sparse indices");
+    size_t elementSize = size_t(componentSize) * components;
+    const unsigned char* idx = ViewBytes(model, s.indices.bufferView, s.indices.byteOffset,
+                                         s.count, indexSize, indexSize);
+    const unsigned char* val = ViewBytes(model, s.values.bufferView, s.values.byteOffset, s.count,
+                                         elementSize, elementSize);
+    for (int i = 0; i < s.count; ++i) {
+      double target = ReadComponent(idx + i * indexSize, s.indices.componentType, false);
+      if (target < 0 || target >= double(a.count)) Malformed(name + " has a sparse index out of range");
+      for (int c = 0; c < components; ++c) {
+        out[size_t(target) * components + c] =
+            ReadComponent(val + i * elementSize + c * componentSize, a.componentType, a.normalized);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<vec3> ReadVec3s(const tinygltf::Model& model, int index) {
+  std::vector<double> raw = ReadAccessor(model, index, 3);
+  std::vector<vec3> out(raw.size() / 3);
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i] = vec3(float(raw[3 * i]), float(raw[3 * i + 1]), float(raw[3 * i + 2]));
+  }
+  return out;
+}
+
+// Vertex indices of the primitive's triangles, three per triangle, in glTF winding.
+std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygltf::Primitive& p,
+                                      size_t vertexCount) {
+  std::vector<uint32_t> v;
+  if (p.indices >= 0) {
+    for (double d : ReadAccessor(model, p.indices, 1)) {
+      if (d >= double(vertexCount)) {
+        Malformed("index " + std::to_string(uint64_t(d)) + " out of range (" +
+                  std::to_string(vertexCount) + " vertices)");
+      }
+      v.push_back(uint32_t(d));
+    }
+  } else {
+    for (size_t i = 0; i < vertexCount; ++i) v.push_back(uint32_t(i));
+  }
+  std::vector<uint32_t> tri;
+  size_t n = v.size();
+  if (p.mode == TINYGLTF_MODE_TRIANGLES) {
+    tri.assign(v.begin(), v.begin() + (n / 3) * 3);
+  } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 0; i + 2 < n; ++i) {
+      size_t odd = i % 2;  // every other strip triangle is reversed to keep the winding
+      tri.insert(tri.end(), {v[i], v[i + 1 + odd], v[i + 2 - odd]});
+    }
+  } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    for (size_t i = 1; i + 1 < n; ++i) tri.insert(tri.end(), {v[i], v[i + 1], v[0]});
+  }
+  return tri;
+}
+
+glm::dmat4 LocalMatrix(const tinygltf::Node& node) {
+  glm::dmat4 m(1.0);
+  if (node.matrix.size() == 16) {
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = node.matrix[i];  // both column-major
+    return m;
+  }
+  glm::dmat3 r(1.0);
+  if (node.rotation.size() == 4) {
+    glm::dvec4 q(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]);
+    double len = glm::length(q);
+    if (len > 0.0) q /= len;
+    double x = q.x, y = q.y, z = q.z, w = q.w;
+    r = glm::dmat3(glm::dvec3(1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w)),
+                   glm::dvec3(2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w)),
+                   glm::dvec3(2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)));
+  }
+  glm::dvec3 s(1.0);
+  if (node.scale.size() == 3) s = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
+  for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c] * s[c], 0.0);
+  if (node.translation.size() == 3) {
+    m[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
+  }
+  return m;
+}
+
+// Walks the node hierarchy and emits each mesh's triangles.
+class GltfWalker {
+ public:
+  GltfWalker(const tinygltf::Model& model, MeshSink& sink)
+      : model_(model), sink_(sink), materials_(model.materials.size(), -1) {}
+
+  void VisitNode(int index, const glm::dmat4& parent, int depth) {
+    if (index < 0 || size_t(index) >= model_.nodes.size()) {
+      Malformed("node " + std::to_string(index) + " does not exist");
+    }
+    if (depth > kMaxNodeDepth) Malformed("the node hierarchy is cyclic or too deep");
+    const tinygltf::Node& node = model_.nodes[index];
+    glm::dmat4 world = parent * LocalMatrix(node);
+    if (node.mesh >= 0) EmitMesh(node.mesh, world);
+    for (int child : node.children) VisitNode(child, world, depth + 1);
+  }
+
+ private:
+  void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
+    if (size_t(meshIndex) >= model_.meshes.size()) {
+      Malformed("mesh " + std::to_string(meshIndex) + " does not exist");
+    }
+    sink_.SetTransform(toWorld);
+    for (const tinygltf::Primitive& p : model_.meshes[meshIndex].primitives) EmitPrimitive(p);
+  }
+
+  void EmitPrimitive(const tinygltf::Primitive& p) {
+    bool triangles = p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+                     p.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+    if (!triangles) {
+      if (!warnedMode_) sink_.Warn("points and lines primitives skipped (not surfaces)");
+      warnedMode_ = true;
+      return;
+    }
+    auto position = p.attributes.find("POSITION");
+    if (position == p.attributes.end()) Malformed("a primitive has no POSITION attribute");
+    std::vector<vec3> positions = ReadVec3s(model_, position->second);
+    std::vector<vec3> normals;
+    auto normal = p.attributes.find("NORMAL");
+    if (normal != p.attributes.end()) normals = ReadVec3s(model_, normal->second);
+    if (!normals.empty() && normals.size() != positions.size()) {
+      Malformed("NORMAL and POSITION counts differ");
+    }
+    uint32_t material = sink_.HasOverride() ? sink_.Override() : MaterialIndex(p.material);
+    std::vector<uint32_t> tri = TriangleIndices(model_, p, positions.size());
+    for (size_t t = 0; t + 2 < tri.size(); t += 3) {
+      vec3 pos[3] = {positions[tri[t]], positions[tri[t + 1]], positions[tri[t + 2]]};
+      if (normals.empty()) {
+        sink_.Add(pos, nullptr, material);
+      } else {
+        vec3 nor[3] = {normals[tri[t]], normals[tri[t + 1]], normals[tri[t + 2]]};
+        sink_.Add(pos, nor, material);
+      }
+    }
+  }
+
+  // The scene material for a glTF material index (-1: the glTF default material), added on
+  // first use with a warning naming any approximation.
+  uint32_t MaterialIndex(int index) {
+    if (index >= int(model_.materials.size())) {
+      Malformed("material " + std::to_string(index) + " does not exist");
+    }
+    int64_t& slot = index < 0 ? defaultMaterial_ : materials_[index];
+    if (slot >= 0) return uint32_t(slot);
+    tinygltf::Material fallback;  // the glTF default: white, metallic 1, roughness 1
+    fallback.emissiveFactor = {0.0, 0.0, 0.0};
+    const tinygltf::Material& source = index < 0 ? fallback : model_.materials[index];
+    std::string name = index < 0 ? "default material"
+                                 : "material \"" + source.name + "\" (#" + std::to_string(index) + ")";
+    MappedGltfMaterial mapped = MapGltfMaterial(source);
+    if (!mapped.approximations.empty()) {
+      std::string notes;
+      for (const std::string& a : mapped.approximations) notes += (notes.empty() ? "" : "; ") + a;
+      sink_.Warn(name + ": " + notes);
+    }
+    std::string shortName = index < 0 ? "default"
+                            : source.name.empty() ? "#" + std::to_string(index) : source.name;
+    slot = sink_.AddMaterial(mapped.material, sink_.Label() + ":" + shortName);
+    return uint32_t(slot);
+  }
+
+  const tinygltf::Model& model_;
+  MeshSink& sink_;
+  std::vector<int64_t> materials_;
+  int64_t defaultMaterial_ = -1;
+  bool warnedMode_ = false;
+};
+
+std::vector<int> RootNodes(const tinygltf::Model& model) {
+  if (!model.scenes.empty()) {
+    int scene = (model.defaultScene >= 0 && size_t(model.defaultScene) < model.scenes.size())
+                    ? model.defaultScene : 0;
+    return model.scenes[scene].nodes;
+  }
+  // No scenes: every node that is nobody's child.
+  std::vector<bool> isChild(model.nodes.size(), false);
+  for (const tinygltf::Node& n : model.nodes) {
+    for (int c : n.children) {
+      if (c >= 0 && size_t(c) < isChild.size()) isChild[c] = true;
+    }
+  }
+  std::vector<int> roots;
+  for (size_t i = 0; i < model.nodes.size(); ++i) {
+    if (!isChild[i]) roots.push_back(int(i));
+  }
+  return roots;
+}
+
+}  // namespace
+
+void LoadGltfMesh(const std::string& path, MeshSink& sink) {
+  tinygltf::Model model = ReadModel(path, sink);
+  GltfWalker walker(model, sink);
+  for (int root : RootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
+}
+
+}  // namespace pt

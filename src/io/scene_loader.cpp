@@ -1,0 +1,347 @@
+#include "src/io/scene_loader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+#include "src/geometry/box.h"
+#include "src/io/gltf_loader.h"
+#include "src/io/obj_loader.h"
+#include "src/io/scene_json.h"
+#include "src/scene/transform.h"
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int64_t kFormatVersion = 1;
+constexpr int64_t kMaxPixels = int64_t(1) << 26;  // 8192 x 8192
+constexpr int64_t kMaxSpp = int64_t(1) << 24;
+constexpr int64_t kMaxBounces = int64_t(1) << 16;
+constexpr int64_t kMaxSeed = 0xffffffffll;
+
+// Everything a parse step needs besides the JSON: the scene being filled and name lookups.
+struct LoadState {
+  const std::string& file;
+  std::string baseDir;
+  SceneDesc& scene;
+  std::unordered_map<std::string, uint32_t> materials;
+  std::string skippedByFile;  // "a.glb (2), b.obj (1)" for the one degenerate-triangle warning
+};
+
+AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
+  a.AllowOnly({"tolerance", "min_spp", "batch"}, "render.adaptive");
+  AdaptiveSettings s;
+  s.enabled = true;
+  s.tolerance = a.Number("tolerance", Range{0.0, 1.0, true, false});
+  int64_t minSpp = a.Integer("min_spp", 1, kMaxSpp);
+  if (minSpp > spp) {
+    a.Fail("min_spp", std::to_string(minSpp) + " exceeds render.spp (" + std::to_string(spp) +
+                          "), the per-pixel maximum");
+  }
+  s.minSpp = int(minSpp);
+  s.batch = int(a.Integer("batch", 1, kMaxSpp));
+  return s;
+}
+
+RenderSettings ParseRender(const JsonObject& r) {
+  r.AllowOnly({"width", "height", "spp", "max_depth", "seed", "russian_roulette_depth", "adaptive"},
+              "render");
+  RenderSettings s;
+  int64_t width = r.Integer("width", 1, kMaxPixels);
+  int64_t height = r.Integer("height", 1, kMaxPixels);
+  if (width * height > kMaxPixels) {
+    r.Fail("width", std::to_string(width) + " x " + std::to_string(height) +
+                        " pixels is too large (at most " + std::to_string(kMaxPixels) + " pixels)");
+  }
+  s.width = int(width);
+  s.height = int(height);
+  s.spp = int(r.Integer("spp", 1, kMaxSpp));
+  s.maxDepth = int(r.Integer("max_depth", 0, kMaxBounces));
+  s.seed = uint32_t(r.IntegerOr("seed", 0, 0, kMaxSeed));
+  s.russianRouletteDepth = int(r.IntegerOr("russian_roulette_depth", 3, 0, kMaxBounces));
+  if (r.Has("adaptive")) s.adaptive = ParseAdaptive(r.Object("adaptive"), s.spp);
+  return s;
+}
+
+std::string FormatVec3(vec3 v) {
+  return "[" + FormatNumber(v.x) + ", " + FormatNumber(v.y) + ", " + FormatNumber(v.z) + "]";
+}
+
+CameraDesc ParseCamera(const JsonObject& c) {
+  c.AllowOnly({"position", "look_at", "up", "fov_y", "aperture_radius", "focus_distance"},
+              "the camera");
+  CameraDesc cam;
+  cam.position = c.Vec3("position");
+  cam.lookAt = c.Vec3("look_at");
+  cam.up = c.Vec3Or("up", vec3(0.0f, 1.0f, 0.0f));
+  cam.fovY = c.Number("fov_y", Range{0.0, 180.0, true, true});
+  cam.apertureRadius = c.NumberOr("aperture_radius", 0.0f, Range::NonNegative());
+  glm::dvec3 forward = glm::dvec3(cam.lookAt) - glm::dvec3(cam.position);
+  if (!(glm::length(forward) > 0.0)) c.Fail("look_at", "equals camera.position: no view direction");
+  if (!(glm::length(glm::dvec3(cam.up)) > 0.0)) c.Fail("up", "must not be the zero vector");
+  double sine = glm::length(glm::cross(glm::normalize(forward), glm::normalize(glm::dvec3(cam.up))));
+  if (!(sine > 1e-6)) {
+    c.Fail("up", FormatVec3(cam.up) + " is parallel to the view direction (look_at - position)");
+  }
+  cam.focusDistance = c.NumberOr("focus_distance", float(glm::length(forward)), Range::Positive());
+  return cam;
+}
+
+// ---- Materials ------------------------------------------------------------------------------
+
+// Rough lobes and plastic are parsed (so their fields are checked) but not rendered yet.
+void RejectUnsupported(const JsonObject& m, const Material& mat) {
+  if (mat.type == MaterialType::kPlastic) {
+    m.Fail("type", "\"plastic\" materials are not supported yet (they arrive with rough materials)");
+  }
+  if (mat.roughness > 0.0f) {
+    m.Fail("roughness", FormatNumber(mat.roughness) +
+                            ": rough materials (roughness > 0) are not supported yet; use 0");
+  }
+}
+
+Material ParseMaterial(const JsonObject& m) {
+  std::string type = m.String("type");
+  Material mat;
+  if (type == "diffuse") {
+    m.AllowOnly({"type", "albedo"}, "a diffuse material");
+    mat.type = MaterialType::kDiffuse;
+    mat.albedo = m.Vec3("albedo", Range::Unit());
+  } else if (type == "emissive") {
+    m.AllowOnly({"type", "radiance", "two_sided"}, "an emissive material");
+    mat.type = MaterialType::kEmissive;
+    mat.radiance = m.Vec3("radiance", Range::NonNegative());
+    mat.twoSided = m.BoolOr("two_sided", false) ? 1u : 0u;
+  } else if (type == "conductor") {
+    m.AllowOnly({"type", "albedo", "roughness"}, "a conductor material");
+    mat.type = MaterialType::kConductor;
+    mat.albedo = m.Vec3("albedo", Range::Unit());
+    mat.roughness = m.NumberOr("roughness", 0.0f, Range::Unit());
+  } else if (type == "dielectric") {
+    m.AllowOnly({"type", "ior", "roughness", "absorption"}, "a dielectric material");
+    mat.type = MaterialType::kDielectric;
+    mat.ior = m.Number("ior", Range::Positive());
+    mat.roughness = m.NumberOr("roughness", 0.0f, Range::Unit());
+    mat.absorption = m.Vec3Or("absorption", vec3(0.0f), Range::NonNegative());
+  } else if (type == "plastic") {
+    m.AllowOnly({"type", "albedo", "ior", "roughness"}, "a plastic material");
+    mat.type = MaterialType::kPlastic;
+    mat.albedo = m.Vec3("albedo", Range::Unit());
+    mat.ior = m.Number("ior", Range::Positive());
+    mat.roughness = m.NumberOr("roughness", 0.0f, Range::Unit());
+  } else {
+    m.Fail("type", "unknown material type \"" + type +
+                       "\" (expected diffuse, emissive, conductor, dielectric or plastic)");
+  }
+  RejectUnsupported(m, mat);
+  return mat;
+}
+
+void ParseMaterials(const JsonObject& root, LoadState& state) {
+  JsonValue all = root.Field("materials");
+  JsonObject materials(all);
+  for (const auto& item : all.Raw().items()) {
+    JsonObject m(JsonValue(item.value(), materials.FieldPath(item.key()), state.file));
+    state.materials[item.key()] = uint32_t(state.scene.materials.size());
+    state.scene.materials.push_back(ParseMaterial(m));
+    state.scene.materialNames.push_back(item.key());
+  }
+}
+
+uint32_t MaterialRef(const JsonObject& o, const LoadState& state) {
+  std::string name = o.String("material");
+  auto it = state.materials.find(name);
+  if (it == state.materials.end()) {
+    std::string defined;
+    for (const std::string& n : state.scene.materialNames) defined += (defined.empty() ? "" : ", ") + n;
+    o.Fail("material", "undefined material \"" + name + "\" (defined: " +
+                           (defined.empty() ? "none" : defined) + ")");
+  }
+  return it->second;
+}
+
+// ---- Objects --------------------------------------------------------------------------------
+
+glm::mat4 ObjectTransform(const JsonObject& o) {
+  return o.Has("transform") ? ParseTransform(o.Object("transform")) : glm::mat4(1.0f);
+}
+
+void ParseSphere(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "center", "radius", "material", "transform"}, "a sphere");
+  vec3 center = o.Vec3("center");
+  float radius = o.Number("radius", Range::Positive());
+  uint32_t material = MaterialRef(o, state);
+  glm::mat4 m = ObjectTransform(o);
+  float scale = 1.0f;
+  if (!UniformScaleOf(m, &scale)) {
+    JsonObject t = o.Object("transform");
+    t.Fail(t.Has("scale") ? "scale" : "matrix",
+           "a sphere accepts only a uniform scale (the same factor on every axis)");
+  }
+  Sphere s{vec3(m * vec4(center, 1.0f)), radius * scale};
+  if (!IsFinite(s.center) || !(s.radius > 0.0f) || !std::isfinite(s.radius)) {
+    o.Fail("radius", "the transformed sphere is degenerate or not finite");
+  }
+  state.scene.spheres.push_back(s);
+  state.scene.sphereMaterials.push_back(material);
+}
+
+void ParseQuad(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "origin", "u", "v", "material", "transform"}, "a quad");
+  vec3 origin = o.Vec3("origin"), u = o.Vec3("u"), v = o.Vec3("v");
+  uint32_t material = MaterialRef(o, state);
+  glm::mat4 m = ObjectTransform(o);
+  Quad q{vec3(m * vec4(origin, 1.0f)), vec3(m * vec4(u, 0.0f)), vec3(m * vec4(v, 0.0f))};
+  vec3 n = glm::cross(q.u, q.v);
+  if (!IsFinite(q.origin) || !(glm::dot(n, n) > 0.0f) || !std::isfinite(glm::dot(n, n))) {
+    o.Fail("v", "u and v are parallel, zero or not finite: the quad has no area");
+  }
+  state.scene.quads.push_back(q);
+  state.scene.quadMaterials.push_back(material);
+}
+
+void ParseBox(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "min", "max", "material", "transform"}, "a box");
+  vec3 lo = o.Vec3("min"), hi = o.Vec3("max");
+  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
+    o.Fail("max", FormatVec3(hi) + " must exceed min " + FormatVec3(lo) + " on every axis");
+  }
+  uint32_t material = MaterialRef(o, state);
+  size_t before = state.scene.quads.size();
+  AppendBoxQuads(lo, hi, ObjectTransform(o), state.scene.quads);
+  state.scene.quadMaterials.resize(state.scene.quads.size(), material);
+  if (state.scene.quads.size() - before != 6) o.FailHere("the transformed box is degenerate");
+}
+
+std::string LowerExtension(const std::string& file) {
+  std::string ext = fs::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+void ParseMesh(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "file", "material", "transform"}, "a mesh");
+  std::string file = o.String("file");
+  int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
+  glm::mat4 m = ObjectTransform(o);
+  std::string ext = LowerExtension(file);
+  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
+    o.Fail("file", "unsupported mesh format \"" + ext + "\" in \"" + file +
+                       "\" (expected .gltf, .glb or .obj)");
+  }
+  fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : fs::path(state.baseDir) / file;
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec)) {
+    o.Fail("file", "cannot open \"" + resolved.string() + "\": no such file");
+  }
+  SceneDesc& scene = state.scene;
+  size_t trianglesBefore = scene.triangles.size();
+  int skippedBefore = scene.skippedDegenerateTriangles;
+  MeshSink sink(scene, glm::dmat4(m), material, file);
+  try {
+    if (ext == ".obj") {
+      LoadObjMesh(resolved.string(), sink);
+    } else {
+      LoadGltfMesh(resolved.string(), sink);
+    }
+  } catch (const std::runtime_error& e) {
+    o.Fail("file", "\"" + resolved.string() + "\": " + e.what());
+  }
+  int skipped = scene.skippedDegenerateTriangles - skippedBefore;
+  if (skipped > 0) {
+    state.skippedByFile += (state.skippedByFile.empty() ? "" : ", ") + file + " (" +
+                           std::to_string(skipped) + ")";
+  }
+  if (scene.triangles.size() == trianglesBefore) sink.Warn("the mesh has no triangles");
+}
+
+void ParseObjects(const JsonObject& root, LoadState& state) {
+  JsonValue objects = root.Field("objects");
+  size_t count = objects.ArraySize();
+  for (size_t i = 0; i < count; ++i) {
+    JsonObject o(objects.Element(i));
+    std::string type = o.String("type");
+    if (type == "sphere") {
+      ParseSphere(o, state);
+    } else if (type == "quad") {
+      ParseQuad(o, state);
+    } else if (type == "box") {
+      ParseBox(o, state);
+    } else if (type == "mesh") {
+      ParseMesh(o, state);
+    } else {
+      o.Fail("type", "unknown object type \"" + type + "\" (expected sphere, quad, box or mesh)");
+    }
+  }
+}
+
+void ParseLights(const JsonObject& root, LoadState& state) {
+  if (!root.Has("lights")) return;
+  JsonValue lights = root.Field("lights");
+  size_t count = lights.ArraySize();
+  for (size_t i = 0; i < count; ++i) {
+    JsonObject l(lights.Element(i));
+    std::string type = l.String("type");
+    if (type != "point") l.Fail("type", "unknown light type \"" + type + "\" (expected point)");
+    l.AllowOnly({"type", "position", "intensity"}, "a point light");
+    state.scene.pointLights.push_back(
+        PointLightDesc{l.Vec3("position"), l.Vec3("intensity", Range::NonNegative())});
+  }
+}
+
+void CheckFormat(const JsonObject& root) {
+  int64_t format = root.IntegerOr("format", kFormatVersion, INT32_MIN, INT32_MAX);
+  if (format > kFormatVersion) {
+    root.Fail("format", "format " + std::to_string(format) +
+                            " is newer than this renderer reads (format 1): update the renderer");
+  }
+  if (format < 1) root.Fail("format", std::to_string(format) + " is not a format version (use 1)");
+}
+
+}  // namespace
+
+SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathForMessages,
+                              const std::string& baseDir) {
+  Json json = ParseSceneJson(text, pathForMessages);
+  JsonObject root(JsonValue(json, "", pathForMessages));
+  CheckFormat(root);  // first: a later format may have fields this one does not know
+  root.AllowOnly({"format", "render", "camera", "background", "materials", "objects", "lights"},
+                 "the scene");
+  SceneDesc scene;
+  scene.path = pathForMessages;
+  LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}};
+  scene.render = ParseRender(root.Object("render"));
+  scene.camera = ParseCamera(root.Object("camera"));
+  scene.background = root.Vec3Or("background", vec3(0.0f), Range::NonNegative());
+  ParseMaterials(root, state);
+  ParseObjects(root, state);
+  ParseLights(root, state);
+  if (scene.skippedDegenerateTriangles > 0) {
+    scene.warnings.push_back("skipped " + std::to_string(scene.skippedDegenerateTriangles) +
+                             " degenerate triangles (zero area or non-finite vertices) in " +
+                             state.skippedByFile);
+  }
+  return scene;
+}
+
+SceneDesc LoadScene(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw SceneError(path, "", "cannot open the scene file: no such file");
+  if (fs::is_directory(path, ec)) throw SceneError(path, "", "is a folder, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, "", std::string("cannot open the scene file: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
+  std::string baseDir = fs::path(path).parent_path().string();
+  return LoadSceneFromString(text.str(), path, baseDir);
+}
+
+}  // namespace pt

@@ -1,0 +1,270 @@
+// The built `pathtracer` binary end to end: each exit status of cli.md (0, 1, 2, 3, 130),
+// what is and is not written in each case, and the --stats-json schema.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "src/integrator/render_api.h"
+#include "src/io/image_io.h"
+#include "tests/test_util.h"
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A tiny scene with a diffuse floor and sphere, an area light, a point light and a background.
+constexpr const char* kTinyScene = R"({
+  "render": {"width": 16, "height": 16, "spp": 2, "max_depth": 3, "seed": 1},
+  "camera": {"position": [0, 1, 3], "look_at": [0, 0.5, 0], "fov_y": 45},
+  "background": [0.1, 0.1, 0.1],
+  "materials": {
+    "white": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
+    "lamp": {"type": "emissive", "radiance": [5, 5, 5]}
+  },
+  "objects": [
+    {"type": "quad", "origin": [-1, 0, -1], "u": [0, 0, 2], "v": [2, 0, 0], "material": "white"},
+    {"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "white"},
+    {"type": "quad", "origin": [-0.5, 2, -0.5], "u": [1, 0, 0], "v": [0, 0, 1], "material": "lamp"}
+  ],
+  "lights": [{"type": "point", "position": [0, 1.5, 1], "intensity": [1, 1, 1]}]
+})";
+
+std::string WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+// Runs the binary with arguments; returns its exit status and keeps its output.
+int RunPathtracer(const std::string& args, std::string* output = nullptr) {
+  std::string text;
+  int status = test::RunCommand(test::BinaryPath("pathtracer") + " " + args, &text);
+  if (output) *output = text;
+  return status;
+}
+
+class CliRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::TempDir();
+    scene_ = WriteText(dir_ + "/tiny.json", kTinyScene);
+  }
+  std::string dir_, scene_;
+};
+
+TEST_F(CliRun, RendersAndExitsZero) {
+  std::string out;
+  std::string args = scene_ + " -o " + dir_ + "/out.png --hdr " + dir_ +
+                     "/out.exr --backend cpu --threads 2 --quiet";
+  ASSERT_EQ(RunPathtracer(args, &out), 0) << out;
+  EXPECT_NE(out.find("samples/s"), std::string::npos) << out;  // the summary line
+  std::string png = ReadText(dir_ + "/out.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  int w = 0, h = 0;
+  std::vector<float> rgb;
+  ReadExrRgb(dir_ + "/out.exr", &w, &h, &rgb);
+  EXPECT_EQ(w, 16);
+  EXPECT_EQ(h, 16);
+  std::vector<float> samples = ReadExrChannel(dir_ + "/out.exr", "samples", &w, &h);
+  for (float s : samples) EXPECT_EQ(s, 2.0f);
+  EXPECT_NO_THROW(ReadExrChannel(dir_ + "/out.exr", "variance.G", &w, &h));
+  // Only the outputs: no temporary or probe file is left beside them.
+  size_t entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++entries;
+  EXPECT_EQ(entries, 3u);
+}
+
+TEST_F(CliRun, OverridesReachTheImage) {
+  std::string out;
+  std::string args = scene_ + " -o " + dir_ + "/out.pfm --width=8 --height 4 --spp 1 " +
+                     "--max-depth 0 --seed 7 --rr-depth off --backend cpu";
+  ASSERT_EQ(RunPathtracer(args, &out), 0) << out;
+  EXPECT_EQ(ReadText(dir_ + "/out.pfm").substr(0, 11), "PF\n8 4\n-1.0");
+}
+
+TEST_F(CliRun, HelpAndVersionExitZero) {
+  std::string out;
+  EXPECT_EQ(RunPathtracer("--help", &out), 0);
+  EXPECT_NE(out.find("usage: pathtracer"), std::string::npos) << out;
+  EXPECT_EQ(RunPathtracer("--version", &out), 0);
+  EXPECT_EQ(out, std::string("pathtracer ") + PT_VERSION + "\n");
+}
+
+TEST_F(CliRun, BadCommandLineExitsOne) {
+  std::string out;
+  std::string o = " -o " + dir_ + "/out.png";
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --bogus", &out), 1);
+  EXPECT_NE(out.find("--help"), std::string::npos) << out;
+  EXPECT_EQ(RunPathtracer(scene_, &out), 1) << out;                        // no -o
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --spp x", &out), 1) << out;       // bad number
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --backend gpu", &out), 1) << out;  // bad enum
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --adaptive on", &out), 1) << out;
+  EXPECT_NE(out.find("not built yet"), std::string::npos) << out;
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --crop 0 0 17 4", &out), 1) << out;  // outside 16x16
+  EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
+}
+
+TEST_F(CliRun, BadSceneExitsTwoAndWritesNothing) {
+  std::string out;
+  std::string bad = WriteText(dir_ + "/bad.json", "{ \"render\": { \"width\": 16, ");
+  std::string kept = WriteText(dir_ + "/kept.png", "old image");
+  std::string args = bad + " -o " + kept + " --hdr " + dir_ + "/new.exr --stats-json " + dir_ +
+                     "/stats.json";
+  EXPECT_EQ(RunPathtracer(args, &out), 2) << out;
+  EXPECT_NE(out.find("bad.json"), std::string::npos) << out;  // the message names the file
+  EXPECT_EQ(ReadText(kept), "old image");
+  EXPECT_FALSE(fs::exists(dir_ + "/new.exr"));
+  EXPECT_FALSE(fs::exists(dir_ + "/stats.json"));
+  EXPECT_EQ(RunPathtracer(dir_ + "/missing.json -o " + dir_ + "/new.png", &out), 2) << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/new.png"));
+}
+
+TEST_F(CliRun, BadReferenceExitsTwo) {
+  std::string out;
+  std::string wrongSize = dir_ + "/wrong.pfm";
+  FilmImage image;
+  image.width = 3;
+  image.height = 5;
+  image.rgb.assign(3 * 5 * 3, 0.5f);
+  WriteImage(wrongSize, image);
+  EXPECT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --reference " + wrongSize, &out), 2)
+      << out;
+  EXPECT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --reference " + dir_ + "/no.exr",
+                          &out),
+            2)
+      << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
+}
+
+TEST_F(CliRun, UnwritableOutputExitsThreeBeforeLoading) {
+  std::string out;
+  EXPECT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/no/such/out.png", &out), 3) << out;
+  EXPECT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --stats-json " + dir_ +
+                              "/no/such/stats.json",
+                          &out),
+            3)
+      << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
+  // Checked before the scene is read: a missing scene does not hide the unwritable output.
+  EXPECT_EQ(RunPathtracer(dir_ + "/missing.json -o " + dir_ + "/no/out.png", &out), 3) << out;
+  if (fs::is_directory("/proc")) {  // not writable even for root
+    EXPECT_EQ(RunPathtracer(scene_ + " -o /proc/pt_out.png", &out), 3) << out;
+  }
+}
+
+TEST_F(CliRun, BackendCudaWithoutGpuExitsThree) {
+  if (CudaDeviceCount() > 0) GTEST_SKIP() << "a GPU is present";
+  std::string out;
+  EXPECT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --backend cuda", &out), 3) << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
+}
+
+TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
+  std::string out;
+  std::string stats = dir_ + "/stats.json";
+  ASSERT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --backend cpu --stats-json=" + stats,
+                          &out),
+            0)
+      << out;
+  nlohmann::json j = nlohmann::json::parse(ReadText(stats));
+  for (const char* key : {"backend", "device", "threads", "scene", "time_ms", "samples",
+                          "spp_mean", "rays", "msamples_per_s", "mrays_per_s", "bvh",
+                          "path_state_bytes_per_path", "paths_in_flight", "peak_device_bytes",
+                          "nonfinite_samples", "interrupted", "reference_relmse"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  for (const char* key : {"triangles", "primitives", "lights", "effects"}) {
+    EXPECT_TRUE(j["scene"].contains(key)) << key;
+  }
+  for (const char* key : {"load", "bvh_build", "upload", "render", "stages"}) {
+    EXPECT_TRUE(j["time_ms"].contains(key)) << key;
+  }
+  for (const char* key :
+       {"generate", "intersect", "sort", "shade", "shadow", "compact", "accumulate"}) {
+    EXPECT_TRUE(j["time_ms"]["stages"].contains(key)) << key;
+  }
+  for (const char* key : {"camera", "extension", "shadow"}) EXPECT_TRUE(j["rays"].contains(key));
+  for (const char* key : {"nodes", "mean_nodes_visited", "mean_prims_tested"}) {
+    EXPECT_TRUE(j["bvh"].contains(key)) << key;
+  }
+  EXPECT_EQ(j["backend"], "cpu");
+  EXPECT_EQ(j["samples"], 16 * 16 * 2);
+  EXPECT_DOUBLE_EQ(j["spp_mean"].get<double>(), 2.0);
+  EXPECT_EQ(j["rays"]["camera"], 16 * 16 * 2);
+  EXPECT_EQ(j["interrupted"], false);
+  EXPECT_EQ(j["scene"]["primitives"], 3);
+  std::vector<std::string> effects = j["scene"]["effects"];
+  for (const char* effect : {"diffuse", "emissive", "area_lights", "point_lights",
+                             "background_light"}) {
+    EXPECT_NE(std::find(effects.begin(), effects.end(), effect), effects.end()) << effect;
+  }
+  EXPECT_TRUE(j["reference_relmse"].is_array());
+}
+
+TEST_F(CliRun, ReferenceRelMseIsLogged) {
+  std::string out;
+  std::string reference = dir_ + "/reference.exr";
+  ASSERT_EQ(RunPathtracer(scene_ + " -o " + reference + " --backend cpu --spp 8", &out), 0) << out;
+  std::string stats = dir_ + "/stats.json";
+  ASSERT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --backend cpu --reference " +
+                              reference + " --stats-json " + stats,
+                          &out),
+            0)
+      << out;
+  nlohmann::json j = nlohmann::json::parse(ReadText(stats));
+  ASSERT_TRUE(j["reference_relmse"].is_array());
+  for (const auto& entry : j["reference_relmse"]) {
+    ASSERT_EQ(entry.size(), 2u);
+    EXPECT_GE(entry[1].get<double>(), 0.0);
+  }
+}
+
+TEST_F(CliRun, TimeLimitStopsTheRenderAndWrites) {
+  std::string out;
+  std::string stats = dir_ + "/stats.json";
+  auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(RunPathtracer(scene_ + " -o " + dir_ + "/out.png --backend cpu --spp 10000000 " +
+                              "--time-limit 0.5 --stats-json " + stats,
+                          &out),
+            0)
+      << out;
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 30.0);
+  EXPECT_TRUE(fs::exists(dir_ + "/out.png"));
+  nlohmann::json j = nlohmann::json::parse(ReadText(stats));
+  EXPECT_LT(j["spp_mean"].get<double>(), 10000000.0);
+}
+
+TEST_F(CliRun, CtrlCWritesTheImageAndExits130) {
+  std::string out;
+  std::string image = dir_ + "/out.png", stats = dir_ + "/stats.json";
+  // SIGINT once the render runs (its first preview is on disk), however loaded the machine.
+  std::string command = "(" + test::BinaryPath("pathtracer") + " " + scene_ + " -o " + image +
+                        " --backend cpu --spp 10000000 --time-limit 60 --preview-every 0.1" +
+                        " --stats-json " + stats + " 2>&1 & pid=$!; i=0; while [ ! -f " + image +
+                        " ] && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done; sleep 0.2;" +
+                        " kill -INT $pid; wait $pid)";
+  ASSERT_EQ(test::RunCommand(command, &out), 130) << out;
+  ASSERT_TRUE(fs::exists(stats)) << out;  // written after the interrupt, so not killed by it
+  nlohmann::json j = nlohmann::json::parse(ReadText(stats));
+  EXPECT_EQ(j["interrupted"], true);
+  EXPECT_GT(j["samples"].get<uint64_t>(), 0u);
+  EXPECT_TRUE(fs::exists(image));
+}
+
+}  // namespace
+}  // namespace pt

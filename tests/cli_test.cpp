@@ -1,0 +1,247 @@
+// The command-line parser of cli.md: every option in both syntaxes, the errors (exit status 1
+// in the app), the refusals of options whose features are not built yet, and the overrides.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "src/app/cli.h"
+
+namespace pt {
+namespace {
+
+CliOptions Parse(std::vector<const char*> args) {
+  args.insert(args.begin(), "pathtracer");
+  return ParseCli(int(args.size()), args.data());
+}
+
+// The parser's message, or "" when the command line was accepted.
+std::string ParseError(std::vector<const char*> args) {
+  try {
+    Parse(std::move(args));
+  } catch (const CliError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(CliParse, MinimalCommandLineKeepsDefaults) {
+  CliOptions o = Parse({"scene.json", "-o", "out.png"});
+  EXPECT_EQ(o.scenePath, "scene.json");
+  EXPECT_EQ(o.outputPath, "out.png");
+  EXPECT_TRUE(o.hdrPath.empty());
+  EXPECT_FALSE(o.spp || o.width || o.height || o.maxDepth || o.seed || o.rrDepth || o.crop);
+  EXPECT_EQ(o.backend, BackendKind::kAuto);
+  EXPECT_EQ(o.threads, 0);
+  EXPECT_EQ(o.compact, Toggle::kAuto);
+  EXPECT_EQ(o.sort, SortMode::kAuto);
+  EXPECT_EQ(o.integrator, IntegratorMode::kMis);
+  EXPECT_EQ(o.timeLimitSeconds, 0.0);
+  EXPECT_EQ(o.previewEverySeconds, 0.0);
+  EXPECT_FALSE(o.quiet || o.help || o.version);
+}
+
+void ExpectEveryOption(const CliOptions& o) {
+  EXPECT_EQ(o.scenePath, "s.json");
+  EXPECT_EQ(o.outputPath, "o.exr");
+  EXPECT_EQ(o.hdrPath, "h.pfm");
+  EXPECT_EQ(o.referencePath, "r.exr");
+  EXPECT_EQ(o.statsJsonPath, "stats.json");
+  EXPECT_EQ(o.spp, 7);
+  EXPECT_EQ(o.width, 320);
+  EXPECT_EQ(o.height, 200);
+  EXPECT_EQ(o.maxDepth, 0);
+  EXPECT_EQ(o.seed, 4294967295u);
+  EXPECT_EQ(o.rrDepth, 5);
+  EXPECT_EQ(o.backend, BackendKind::kCpu);
+  EXPECT_EQ(o.threads, 3);
+  EXPECT_EQ(o.compact, Toggle::kOff);
+  EXPECT_EQ(o.sort, SortMode::kMaterial);
+  EXPECT_EQ(o.integrator, IntegratorMode::kNee);
+  EXPECT_DOUBLE_EQ(o.timeLimitSeconds, 2.5);
+  EXPECT_DOUBLE_EQ(o.previewEverySeconds, 0.75);
+  ASSERT_TRUE(o.crop);
+  EXPECT_EQ(o.crop->x0, 1);
+  EXPECT_EQ(o.crop->y0, 2);
+  EXPECT_EQ(o.crop->x1, 30);
+  EXPECT_EQ(o.crop->y1, 40);
+  EXPECT_TRUE(o.quiet);
+}
+
+TEST(CliParse, EveryOptionWithSeparateValues) {
+  ExpectEveryOption(Parse({"s.json", "-o", "o.exr", "--hdr", "h.pfm", "--reference", "r.exr",
+                           "--stats-json", "stats.json", "--spp", "7", "--width", "320",
+                           "--height", "200", "--max-depth", "0", "--seed", "4294967295",
+                           "--rr-depth", "5", "--backend", "cpu", "--threads", "3", "--compact",
+                           "off", "--sort", "material", "--integrator", "nee", "--time-limit",
+                           "2.5", "--preview-every", "0.75", "--crop", "1", "2", "30", "40",
+                           "--quiet", "--tri-test", "watertight", "--ray-offset", "robust",
+                           "--film", "float", "--specialize", "on"}));
+}
+
+TEST(CliParse, EveryOptionWithEqualsValues) {
+  ExpectEveryOption(Parse({"-o=o.exr", "--hdr=h.pfm", "--reference=r.exr",
+                           "--stats-json=stats.json", "--spp=7", "--width=320", "--height=200",
+                           "--max-depth=0", "--seed=4294967295", "--rr-depth=5", "--backend=cpu",
+                           "--threads=3", "--compact=off", "--sort=material", "--integrator=nee",
+                           "--time-limit=2.5", "--preview-every=0.75", "--crop=1,2,30,40",
+                           "--quiet", "--tri-test=watertight", "--ray-offset=robust",
+                           "--film=float", "--specialize=on", "s.json"}));
+}
+
+TEST(CliParse, CropForms) {
+  for (auto args : std::vector<std::vector<const char*>>{
+           {"--crop", "1", "2", "30", "40"},
+           {"--crop=1", "2", "30", "40"},
+           {"--crop", "1,2,30,40"},
+           {"--crop=1,2,30,40"}}) {
+    args.insert(args.begin(), {"s.json", "-o", "o.png"});
+    CliOptions o = Parse(args);
+    ASSERT_TRUE(o.crop);
+    EXPECT_EQ(o.crop->x0, 1);
+    EXPECT_EQ(o.crop->y1, 40);
+  }
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--crop", "1", "2", "3"}),
+                       "missing value"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--crop=1,2,3"}), "four numbers"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--crop", "5", "0", "2", "8"}),
+                       "X0 < X1"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--crop", "-1", "0", "2", "8"}),
+                       "--crop"));
+}
+
+TEST(CliParse, EnumValues) {
+  auto with = [](const char* option, const char* value) {
+    return Parse({"s.json", "-o", "o.png", option, value});
+  };
+  EXPECT_EQ(with("--backend", "auto").backend, BackendKind::kAuto);
+  EXPECT_EQ(with("--backend", "cpu").backend, BackendKind::kCpu);
+  EXPECT_EQ(with("--backend", "cuda").backend, BackendKind::kCuda);
+  EXPECT_EQ(with("--compact", "on").compact, Toggle::kOn);
+  EXPECT_EQ(with("--compact", "off").compact, Toggle::kOff);
+  EXPECT_EQ(with("--compact", "auto").compact, Toggle::kAuto);
+  EXPECT_EQ(with("--sort", "off").sort, SortMode::kOff);
+  EXPECT_EQ(with("--sort", "material").sort, SortMode::kMaterial);
+  EXPECT_EQ(with("--sort", "auto").sort, SortMode::kAuto);
+  EXPECT_EQ(with("--integrator", "mis").integrator, IntegratorMode::kMis);
+  EXPECT_EQ(with("--integrator", "bsdf").integrator, IntegratorMode::kBsdf);
+  EXPECT_EQ(with("--integrator", "nee").integrator, IntegratorMode::kNee);
+  EXPECT_EQ(with("--rr-depth", "off").rrDepth, kRussianRouletteOff);
+  EXPECT_EQ(with("--rr-depth", "0").rrDepth, 0);
+}
+
+TEST(CliParse, HelpAndVersionNeedNothingElse) {
+  EXPECT_TRUE(Parse({"--help"}).help);
+  EXPECT_TRUE(Parse({"-h"}).help);
+  EXPECT_TRUE(Parse({"--version"}).version);
+  std::string usage = CliUsage();
+  for (const char* option :
+       {"-o FILE", "--hdr", "--spp", "--width", "--height", "--max-depth", "--seed", "--rr-depth",
+        "--backend", "--threads", "--compact", "--sort", "--integrator", "--reference",
+        "--time-limit", "--preview-every", "--crop", "--stats-json", "--quiet", "--version"}) {
+    EXPECT_TRUE(Contains(usage, option)) << option;
+  }
+}
+
+TEST(CliParse, BadCommandLines) {
+  struct Case {
+    std::vector<const char*> args;
+    const char* message;
+  };
+  std::vector<Case> cases = {
+      {{"s.json", "-o", "o.png", "--bogus"}, "unknown option --bogus"},
+      {{"s.json", "-o", "o.png", "--bogus=1"}, "unknown option --bogus"},
+      {{"s.json", "-o"}, "missing value for -o"},
+      {{"s.json", "-o", "o.png", "--spp"}, "missing value for --spp"},
+      {{"s.json", "-o", "o.png", "--spp", "--quiet"}, "missing value for --spp"},
+      {{"s.json", "-o", "o.png", "--spp", "abc"}, "bad number for --spp"},
+      {{"s.json", "-o", "o.png", "--spp", "1.5"}, "bad number for --spp"},
+      {{"s.json", "-o", "o.png", "--spp=12x"}, "bad number for --spp"},
+      {{"s.json", "-o", "o.png", "--spp", "0"}, "--spp must be between"},
+      {{"s.json", "-o", "o.png", "--width", "-3"}, "--width must be between"},
+      {{"s.json", "-o", "o.png", "--height", "0"}, "--height must be between"},
+      {{"s.json", "-o", "o.png", "--max-depth", "-1"}, "--max-depth must be between"},
+      {{"s.json", "-o", "o.png", "--seed", "4294967296"}, "--seed must be between"},
+      {{"s.json", "-o", "o.png", "--rr-depth", "never"}, "bad number for --rr-depth"},
+      {{"s.json", "-o", "o.png", "--threads", "-1"}, "--threads must be between"},
+      {{"s.json", "-o", "o.png", "--time-limit", "0"}, "greater than 0"},
+      {{"s.json", "-o", "o.png", "--time-limit", "nan"}, "bad number for --time-limit"},
+      {{"s.json", "-o", "o.png", "--preview-every", "soon"}, "bad number for --preview-every"},
+      {{"s.json", "-o", "o.png", "--backend", "gpu"}, "bad value for --backend"},
+      {{"s.json", "-o", "o.png", "--compact", "yes"}, "bad value for --compact"},
+      {{"s.json", "-o", "o.png", "--sort", "random"}, "bad value for --sort"},
+      {{"s.json", "-o", "o.png", "--integrator", "bdpt"}, "bad value for --integrator"},
+      {{"s.json", "-o", "o.png", "--quiet=yes"}, "--quiet takes no value"},
+      {{"-o", "o.png"}, "missing the scene file"},
+      {{"s.json"}, "missing -o"},
+      {{"s.json", "t.json", "-o", "o.png"}, "unexpected argument"},
+      {{"s.json", "-o", "o.jpg"}, "unknown image format"},
+      {{"s.json", "-o", "o.png", "--hdr", "h.png"}, "unknown image format"},
+      {{"s.json", "-o", "o.png", "--reference", "r.txt"}, "unknown image format"},
+      {{"s.json", "-o", ""}, "empty file name"},
+  };
+  for (const Case& c : cases) {
+    std::string message = ParseError(c.args);
+    EXPECT_TRUE(Contains(message, c.message)) << "got '" << message << "', wanted " << c.message;
+  }
+}
+
+TEST(CliParse, LaterFeaturesAreRefusedNotIgnored) {
+  std::vector<std::vector<const char*>> refused = {
+      {"--adaptive", "on"},     {"--adaptive=off"},      {"--spp-map", "map.png"},
+      {"--light-paths", "all"}, {"--light-paths=direct"}, {"--light-paths", "indirect"},
+      {"--sort", "queues"},     {"--tri-test", "mt"},    {"--ray-offset", "1e-4"},
+      {"--ray-offset=0.001"},   {"--film", "double"},    {"--specialize", "off"},
+  };
+  for (auto args : refused) {
+    args.insert(args.begin(), {"s.json", "-o", "o.png"});
+    std::string message = ParseError(args);
+    EXPECT_TRUE(Contains(message, "not built yet")) << args[3] << ": " << message;
+  }
+  // Malformed values of those options are plain errors, not "not built yet".
+  for (auto args : std::vector<std::vector<const char*>>{{"--adaptive", "maybe"},
+                                                         {"--tri-test", "fast"},
+                                                         {"--ray-offset", "-1"},
+                                                         {"--film", "half"},
+                                                         {"--specialize", "yes"},
+                                                         {"--light-paths", "some"}}) {
+    args.insert(args.begin(), {"s.json", "-o", "o.png"});
+    std::string message = ParseError(args);
+    EXPECT_TRUE(Contains(message, "bad value")) << args[3] << ": " << message;
+  }
+}
+
+TEST(CliParse, DoubleDashEndsOptions) {
+  CliOptions o = Parse({"-o", "o.png", "--", "-scene.json"});
+  EXPECT_EQ(o.scenePath, "-scene.json");
+}
+
+TEST(CliOverrides, ApplyAndValidate) {
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 32;
+  settings.spp = 16;
+  settings.maxDepth = 8;
+  settings.seed = 1;
+  CliOptions cli = Parse({"s.json", "-o", "o.png", "--spp", "2", "--width", "100",
+                          "--max-depth", "0", "--seed", "9", "--rr-depth", "off"});
+  ApplyCliOverrides(cli, &settings);
+  EXPECT_EQ(settings.spp, 2);
+  EXPECT_EQ(settings.width, 100);
+  EXPECT_EQ(settings.height, 32);  // not overridden
+  EXPECT_EQ(settings.maxDepth, 0);
+  EXPECT_EQ(settings.seed, 9u);
+  EXPECT_EQ(settings.russianRouletteDepth, kRussianRouletteOff);
+
+  CliOptions crop = Parse({"s.json", "-o", "o.png", "--crop", "0", "0", "101", "10"});
+  EXPECT_THROW(ApplyCliOverrides(crop, &settings), CliError);  // outside the 100-wide image
+  CliOptions huge = Parse({"s.json", "-o", "o.png", "--width", "65536", "--height", "65536"});
+  EXPECT_THROW(ApplyCliOverrides(huge, &settings), CliError);
+}
+
+}  // namespace
+}  // namespace pt
