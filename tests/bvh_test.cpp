@@ -31,7 +31,7 @@ struct TestScene {
   BvhBuildResult bvh;
   SceneView view;
 
-  void Build(const BvhBuildOptions& options = {}) {
+  void Build(const BvhBuildOptions& options = {}, int maxDepth = kBvhMaxDepth) {
     std::vector<PrimRef> input;
     std::vector<Aabb> bounds;
     auto add = [&](ShapeType type, uint32_t i, Aabb b) {
@@ -43,7 +43,7 @@ struct TestScene {
     for (uint32_t i = 0; i < quads.size(); ++i) add(ShapeType::kQuad, i, PrimBounds(quads[i]));
     for (uint32_t i = 0; i < spheres.size(); ++i)
       add(ShapeType::kSphere, i, PrimBounds(spheres[i]));
-    bvh = BuildBvh(bounds, options);
+    bvh = BuildBvh(bounds, options, maxDepth);
     prims.resize(input.size());
     for (size_t i = 0; i < input.size(); ++i) prims[i] = input[bvh.primOrder[i]];
     view = SceneView{};
@@ -80,7 +80,8 @@ std::vector<Aabb> RandomBoxes(int n, uint32_t seed) {
 
 // Checks the layout contract: every primitive in exactly one leaf, children adjacent and each
 // node reached once, bounds nested, leaf sizes and depth within limits. Returns max leaf size.
-uint32_t CheckStructure(const BvhBuildResult& r, const std::vector<Aabb>& boxes, int maxLeaf) {
+uint32_t CheckStructure(const BvhBuildResult& r, const std::vector<Aabb>& boxes, int maxLeaf,
+                        int maxDepth = kBvhMaxDepth) {
   size_t n = boxes.size();
   EXPECT_EQ(r.primOrder.size(), n);
   std::vector<int> seenPrim(n, 0), seenNode(r.nodes.size(), 0);
@@ -121,8 +122,8 @@ uint32_t CheckStructure(const BvhBuildResult& r, const std::vector<Aabb>& boxes,
   for (size_t i = 0; i < n; ++i) EXPECT_EQ(covered[i], 1) << "slot " << i;
   for (size_t i = 0; i < r.nodes.size(); ++i) EXPECT_EQ(seenNode[i], 1) << "node " << i;
   EXPECT_EQ(r.maxDepth, deepest);
-  EXPECT_LE(r.maxDepth, kBvhMaxDepth);
-  if (r.maxDepth < kBvhMaxDepth) {
+  EXPECT_LE(r.maxDepth, maxDepth);
+  if (r.maxDepth < maxDepth) {
     EXPECT_LE(biggestLeaf, uint32_t(maxLeaf));
   }
   return biggestLeaf;
@@ -197,9 +198,9 @@ TEST(BvhBuild, EveryPrimitiveOnceAndLeafSizeRespected) {
   EXPECT_EQ(0, memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
 }
 
-TEST(BvhBuild, DepthCapAndBadBounds) {
+TEST(BvhBuild, DeepChainsDepthCapAndBadBounds) {
   // Geometrically spaced boxes defeat binning (the far box alone fills the top bins), which
-  // makes a deep tree: it must stop at kBvhMaxDepth.
+  // makes a deep tree (33 levels for 300 boxes).
   std::vector<Aabb> boxes;
   for (int i = 0; i < 300; ++i) {
     float x = std::pow(1.3f, float(i));
@@ -207,7 +208,11 @@ TEST(BvhBuild, DepthCapAndBadBounds) {
   }
   BvhBuildResult r = BuildBvh(boxes, BvhBuildOptions{1, 16});
   CheckStructure(r, boxes, 1);
-  EXPECT_LE(r.maxDepth, kBvhMaxDepth);
+  EXPECT_GT(r.maxDepth, 25);
+  // At the depth cap a node becomes a leaf whatever its size.
+  r = BuildBvh(boxes, BvhBuildOptions{1, 16}, 5);
+  EXPECT_EQ(r.maxDepth, 5);
+  EXPECT_GT(CheckStructure(r, boxes, 1, 5), 1u);
   // NaN and infinite bounds (the caller should have dropped them) must not crash the build.
   std::vector<Aabb> bad = RandomBoxes(200, 22);
   bad[3].lo.x = NAN;
@@ -323,24 +328,26 @@ TEST(BvhTraversal, MatchesBruteForceOnSoups) {
   }
 }
 
-TEST(BvhTraversal, DeepTreeMatchesBruteForce) {
+TEST(BvhTraversal, DeepAndDepthCappedTreesMatchBruteForce) {
   TestScene scene;
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 200; ++i) {  // geometric spacing: a 30-level tree
     float x = std::pow(1.25f, float(i)) * 1e-12f;
     scene.spheres.push_back(Sphere{vec3(x, 0, 0), x * 0.05f});
     scene.quads.push_back(Quad{vec3(x, -x, -x), vec3(0, 2 * x, 0), vec3(0, 0, 2 * x)});
   }
-  scene.Build(BvhBuildOptions{1, 16});
-  std::mt19937 rng(32);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (int i = 0; i < 4000; ++i) {
-    float scale = std::pow(1.25f, float(i % 200)) * 1e-12f;
-    Ray ray{vec3(u(rng), u(rng), u(rng)) * scale * 3.0f, RandomUnit(rng)};
-    HitRecord bvh, brute;
-    ASSERT_EQ(IntersectClosest(scene.view, ray, kInfinity, &bvh, nullptr),
-              BruteForceClosest(scene.view, ray, kInfinity, &brute));
-    if (bvh.prim != HitRecord::kNoHit) {
-      ASSERT_EQ(bvh.t, brute.t);
+  for (int maxDepth : {kBvhMaxDepth, 4}) {
+    scene.Build(BvhBuildOptions{1, 16}, maxDepth);
+    std::mt19937 rng(32);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < 4000; ++i) {
+      float scale = std::pow(1.25f, float(i % 200)) * 1e-12f;
+      Ray ray{vec3(u(rng), u(rng), u(rng)) * scale * 3.0f, RandomUnit(rng)};
+      HitRecord bvh, brute;
+      ASSERT_EQ(IntersectClosest(scene.view, ray, kInfinity, &bvh, nullptr),
+                BruteForceClosest(scene.view, ray, kInfinity, &brute));
+      if (bvh.prim != HitRecord::kNoHit) {
+        ASSERT_EQ(bvh.t, brute.t);
+      }
     }
   }
 }

@@ -88,7 +88,8 @@ double PolygonIrradiance(const std::vector<glm::dvec3>& verts, glm::dvec3 x, glm
                          double radiance) {
   double sum = 0.0;
   for (size_t i = 0; i < verts.size(); ++i) {
-    glm::dvec3 a = glm::normalize(verts[i] - x), b = glm::normalize(verts[(i + 1) % verts.size()] - x);
+    glm::dvec3 a = glm::normalize(verts[i] - x);
+    glm::dvec3 b = glm::normalize(verts[(i + 1) % verts.size()] - x);
     double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
     sum += angle * glm::dot(n, glm::normalize(glm::cross(a, b)));
   }

@@ -6,19 +6,28 @@
 #include <array>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 namespace pt::test {
 
+namespace {
+// The build bakes in where things were; a copy run elsewhere (the GPU machine) overrides.
+std::string Dir(const char* variable, const char* builtIn) {
+  const char* v = std::getenv(variable);
+  return v && *v ? v : builtIn;
+}
+}  // namespace
+
 std::string SourcePath(const std::string& relative) {
-  return std::string(PT_SOURCE_DIR) + "/" + relative;
+  return Dir("PT_SOURCE_DIR", PT_SOURCE_DIR) + "/" + relative;
 }
 std::string SharedPath(const std::string& relative) {
-  return std::string(PT_SHARED_DIR) + "/" + relative;
+  return Dir("PT_SHARED_DIR", PT_SHARED_DIR) + "/" + relative;
 }
-bool HaveShared() { return std::filesystem::exists(PT_SHARED_DIR "/scene-format.md"); }
+bool HaveShared() { return std::filesystem::exists(SharedPath("assets")); }
 std::string BinaryPath(const std::string& relative) {
-  return std::string(PT_BINARY_DIR) + "/" + relative;
+  return Dir("PT_BINARY_DIR", PT_BINARY_DIR) + "/" + relative;
 }
 
 std::string TempDir() {

@@ -105,7 +105,7 @@ std::string Num(double v) {
 
 std::string Floats(std::initializer_list<double> values) {
   std::string s = "[";
-  for (double v : values) s += (s.size() > 1 ? "," : "") + Num(v);
+  for (double v : values) s.append(s.size() > 1 ? "," : "").append(Num(v));
   return s + "]";
 }
 

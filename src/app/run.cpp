@@ -144,8 +144,10 @@ void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
   if (!cli.hdrPath.empty()) WriteImage(cli.hdrPath, image, true);
 }
 
-RenderOptions MakeRenderOptions(const CliOptions& cli, const std::vector<float>* reference) {
+RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
+                                const std::vector<float>* reference) {
   RenderOptions options;
+  options.backend = backend;
   options.threads = cli.threads;
   options.compact = cli.compact;
   options.sort = cli.sort;
@@ -157,8 +159,8 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, const std::vector<float>*
   return options;
 }
 
-RenderResult Render(const CliOptions& cli, const Scene& scene, BackendKind backend,
-                    RenderFunction render, const std::vector<float>* reference) {
+RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction render,
+                    const RenderOptions& options) {
   ProgressBar progress(cli.quiet);
   RenderCallbacks callbacks;
   callbacks.shouldStop = [] { return gInterrupted.load(std::memory_order_relaxed); };
@@ -174,8 +176,6 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, BackendKind backe
       }
     };
   }
-  RenderOptions options = MakeRenderOptions(cli, reference);
-  options.backend = backend;  // resolved: never kAuto here
   try {
     RenderResult result = render(scene, options, callbacks);
     progress.Finish();
@@ -187,15 +187,13 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, BackendKind backe
 
 void PrintSummary(const RenderResult& result) {
   const RenderStats& s = result.stats;
-  double seconds = s.renderMs / 1e3;
-  uint64_t rays = s.cameraRays + s.extensionRays + s.shadowRays;
-  double msps = seconds > 0.0 ? double(s.samples) / seconds / 1e6 : 0.0;
-  double mrps = seconds > 0.0 ? double(rays) / seconds / 1e6 : 0.0;
+  RenderRates rates = ComputeRates(s);
   std::string device = s.device.empty() ? s.backend : s.backend + ", " + s.device;
   std::fprintf(stderr,
                "pathtracer: %dx%d, %.1f spp in %.3f s on %s: %.2f Msamples/s, %.2f Mrays/s%s\n",
-               result.image.width, result.image.height, s.sppMean, seconds, device.c_str(),
-               msps, mrps, s.interrupted ? " (interrupted)" : "");
+               result.image.width, result.image.height, s.sppMean, s.renderMs / 1e3,
+               device.c_str(), rates.msamplesPerS, rates.mraysPerS,
+               s.interrupted ? " (interrupted)" : "");
 }
 
 int Run(const CliOptions& cli, const AppBackends& backends) {
@@ -208,8 +206,9 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   BackendKind backend = ChooseBackend(cli.backend, backends);
   RenderFunction render = backend == BackendKind::kCuda ? backends.renderCuda : backends.renderCpu;
   InstallSigintHandler();
-  RenderResult result =
-      Render(cli, scene, backend, render, cli.referencePath.empty() ? nullptr : &reference);
+  RenderOptions options =
+      MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
+  RenderResult result = Render(cli, scene, render, options);
   bool interrupted = gInterrupted.load();
   result.stats.interrupted = result.stats.interrupted || interrupted;
   try {

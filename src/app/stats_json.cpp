@@ -9,7 +9,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-double PerMicrosecond(double count, double ms) { return ms > 0.0 ? count / (ms * 1e3) : 0.0; }
 double Mean(uint64_t total, uint64_t count) { return count ? double(total) / count : 0.0; }
 
 bool HasLight(const Scene& scene, LightType type) {
@@ -73,8 +72,15 @@ std::vector<std::string> SceneEffectNames(const Scene& scene) {
   return names;
 }
 
-Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times) {
+RenderRates ComputeRates(const RenderStats& stats) {
+  if (stats.renderMs <= 0.0) return {};
   uint64_t rays = stats.cameraRays + stats.extensionRays + stats.shadowRays;
+  double microseconds = stats.renderMs * 1e3;  // count / us = millions / s
+  return {double(stats.samples) / microseconds, double(rays) / microseconds};
+}
+
+Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times) {
+  RenderRates rates = ComputeRates(stats);
   Json relMse = Json::array();
   for (const auto& [seconds, value] : stats.referenceRelMse) relMse.push_back({seconds, value});
   return Json{
@@ -88,8 +94,8 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"rays", Json{{"camera", stats.cameraRays},
                     {"extension", stats.extensionRays},
                     {"shadow", stats.shadowRays}}},
-      {"msamples_per_s", PerMicrosecond(double(stats.samples), stats.renderMs)},
-      {"mrays_per_s", PerMicrosecond(double(rays), stats.renderMs)},
+      {"msamples_per_s", rates.msamplesPerS},
+      {"mrays_per_s", rates.mraysPerS},
       {"bvh", Json{{"nodes", scene.nodes.size()},
                    {"mean_nodes_visited", Mean(stats.nodesVisited, stats.traversals)},
                    {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},

@@ -16,6 +16,12 @@ struct AppTimes {
   double bvhBuildMs = 0.0;
 };
 
+// Millions of samples and of rays (camera, extension, shadow) per second of render time.
+struct RenderRates {
+  double msamplesPerS = 0.0, mraysPerS = 0.0;
+};
+RenderRates ComputeRates(const RenderStats& stats);
+
 // The effects the scene uses: material types present ("diffuse", "emissive", "conductor",
 // "dielectric", "plastic"), "absorption", "area_lights", "point_lights", "background_light",
 // "depth_of_field". Only materials some primitive uses count.

@@ -60,9 +60,11 @@ struct BinMapper {
 
 class Builder {
  public:
-  Builder(const std::vector<Aabb>& bounds, const BvhBuildOptions& options, BvhBuildResult* out)
+  Builder(const std::vector<Aabb>& bounds, const BvhBuildOptions& options, int maxDepth,
+          BvhBuildResult* out)
       : out_(out) {
     maxLeafSize_ = std::max(1, options.maxLeafSize);
+    maxDepth_ = std::clamp(maxDepth, 0, kBvhMaxDepth);
     binCount_ = std::clamp(options.binCount, 2, kMaxBins);
     bins_.resize(3 * size_t(binCount_));
     rightCost_.resize(binCount_);
@@ -91,6 +93,7 @@ class Builder {
   BvhBuildResult* out_;
   int maxLeafSize_ = 4;
   int binCount_ = 16;
+  int maxDepth_ = kBvhMaxDepth;
 };
 
 Split Builder::FindSplit(uint32_t begin, uint32_t end, const Aabb& centroidBounds,
@@ -154,7 +157,7 @@ void Builder::Build(uint32_t nodeIndex, uint32_t begin, uint32_t end, int depth)
   out_->nodes[nodeIndex].boundsMin = nodeBounds.lo;
   out_->nodes[nodeIndex].boundsMax = nodeBounds.hi;
   uint32_t n = end - begin;
-  if (n <= 1 || depth >= kBvhMaxDepth) return MakeLeaf(nodeIndex, begin, end, depth);
+  if (n <= 1 || depth >= maxDepth_) return MakeLeaf(nodeIndex, begin, end, depth);
 
   BinMapper mappers[3];
   Split split = FindSplit(begin, end, centroidBounds, mappers);
@@ -189,7 +192,8 @@ void Builder::Build(uint32_t nodeIndex, uint32_t begin, uint32_t end, int depth)
 
 }  // namespace
 
-BvhBuildResult BuildBvh(const std::vector<Aabb>& primBounds, const BvhBuildOptions& options) {
+BvhBuildResult BuildBvh(const std::vector<Aabb>& primBounds, const BvhBuildOptions& options,
+                        int maxDepth) {
   BvhBuildResult result;
   uint32_t n = uint32_t(primBounds.size());
   result.primOrder.resize(n);
@@ -202,7 +206,7 @@ BvhBuildResult BuildBvh(const std::vector<Aabb>& primBounds, const BvhBuildOptio
     result.nodes[0].count = 0;
     return result;
   }
-  Builder builder(primBounds, options, &result);
+  Builder builder(primBounds, options, maxDepth, &result);
   builder.Build(0, 0, n, 0);
   builder.WriteOrder();
   return result;

@@ -21,11 +21,13 @@ struct BvhBuildResult {
 };
 
 // Leaves hold at most options.maxLeafSize primitives (a node is split until it fits; among
-// nodes that fit, SAH chooses between leaf and split), except at depth kBvhMaxDepth, which is
-// always a leaf. All centroids equal: split in the middle of the index range. No primitives:
-// one root with count 0 and empty bounds (traversal reports no hit). Bounds are expected to be
-// finite (the caller drops degenerate primitives); NaN or infinite ones do not crash the build
-// but may give a poor tree. Deterministic: the same input gives the same tree.
-BvhBuildResult BuildBvh(const std::vector<Aabb>& primBounds, const BvhBuildOptions& options);
+// nodes that fit, SAH chooses between leaf and split), except at depth maxDepth (clamped to
+// [0, kBvhMaxDepth]; only tests lower it), which is always a leaf. All centroids equal: split in
+// the middle of the index range. No primitives: one root with count 0 and empty bounds
+// (traversal reports no hit). Bounds are expected to be finite (the caller drops degenerate
+// primitives); NaN or infinite ones do not crash the build but may give a poor tree.
+// Deterministic: the same input gives the same tree.
+BvhBuildResult BuildBvh(const std::vector<Aabb>& primBounds, const BvhBuildOptions& options,
+                        int maxDepth = kBvhMaxDepth);
 
 }  // namespace pt

@@ -59,69 +59,90 @@ double ReadComponent(const unsigned char* p, int type, bool normalized) {
   }
 }
 
-// Bytes [offset, offset + (count - 1) * stride + elementSize) of a buffer view, bounds checked.
+// Bytes [offset, offset + (count - 1) * stride + elementSize) of a buffer view, bounds checked
+// without overflow (a malformed count must not wrap around).
 const unsigned char* ViewBytes(const tinygltf::Model& model, int viewIndex, size_t offset,
                                size_t count, size_t stride, size_t elementSize) {
-  if (viewIndex < 0 || size_t(viewIndex) >= model.bufferViews.size()) {
-    Malformed("buffer view " + std::to_string(viewIndex) + " does not exist");
-  }
+  std::string name = "buffer view " + std::to_string(viewIndex);
+  if (viewIndex < 0 || size_t(viewIndex) >= model.bufferViews.size()) Malformed(name + " does not exist");
   const tinygltf::BufferView& view = model.bufferViews[viewIndex];
   if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
-    Malformed("buffer view " + std::to_string(viewIndex) + " names a missing buffer");
+    Malformed(name + " names a missing buffer");
   }
   const std::vector<unsigned char>& data = model.buffers[view.buffer].data;
-  size_t needed = count == 0 ? 0 : offset + (count - 1) * stride + elementSize;
-  if (view.byteOffset + view.byteLength > data.size() || needed > view.byteLength) {
-    Malformed("buffer view " + std::to_string(viewIndex) + " reads past its buffer");
+  size_t length = view.byteLength;
+  bool fits = view.byteOffset <= data.size() && length <= data.size() - view.byteOffset;
+  if (count > 0) {
+    fits = fits && stride > 0 && offset <= length && elementSize <= length - offset &&
+           count - 1 <= (length - offset - elementSize) / stride;
   }
+  if (!fits) Malformed(name + " is read past its end");
   return data.data() + view.byteOffset + offset;
+}
+
+struct AccessorLayout {
+  int componentSize;
+  int components;
+  size_t ElementSize() const { return size_t(componentSize) * components; }
+};
+
+void ReadDense(const tinygltf::Model& model, const tinygltf::Accessor& a, AccessorLayout layout,
+               std::vector<double>& out) {
+  if (size_t(a.bufferView) >= model.bufferViews.size()) Malformed("an accessor names a missing view");
+  int stride = a.ByteStride(model.bufferViews[a.bufferView]);
+  if (stride <= 0) Malformed("an accessor has an invalid byte stride");
+  const unsigned char* base =
+      ViewBytes(model, a.bufferView, a.byteOffset, a.count, stride, layout.ElementSize());
+  out.assign(a.count * layout.components, 0.0);
+  for (size_t i = 0; i < a.count; ++i) {
+    for (int c = 0; c < layout.components; ++c) {
+      out[i * layout.components + c] = ReadComponent(base + i * stride + c * layout.componentSize,
+                                                     a.componentType, a.normalized);
+    }
+  }
+}
+
+void ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, AccessorLayout layout,
+                 std::vector<double>& out) {
+  const auto& s = a.sparse;
+  int indexSize = tinygltf::GetComponentSizeInBytes(uint32_t(s.indices.componentType));
+  if (indexSize <= 0 || s.count < 0) Malformed("an accessor has malformed sparse indices");
+  size_t elementSize = layout.ElementSize();
+  const unsigned char* idx =
+      ViewBytes(model, s.indices.bufferView, s.indices.byteOffset, s.count, indexSize, indexSize);
+  const unsigned char* val =
+      ViewBytes(model, s.values.bufferView, s.values.byteOffset, s.count, elementSize, elementSize);
+  for (int i = 0; i < s.count; ++i) {
+    double target = ReadComponent(idx + i * indexSize, s.indices.componentType, false);
+    if (target < 0 || target >= double(a.count)) Malformed("a sparse index is out of range");
+    for (int c = 0; c < layout.components; ++c) {
+      out[size_t(target) * layout.components + c] = ReadComponent(
+          val + i * elementSize + c * layout.componentSize, a.componentType, a.normalized);
+    }
+  }
 }
 
 // Every element of an accessor (components per element checked), sparse substitution applied.
 std::vector<double> ReadAccessor(const tinygltf::Model& model, int index, int components) {
-  if (index < 0 || size_t(index) >= model.accessors.size()) {
-    Malformed("accessor " + std::to_string(index) + " does not exist");
-  }
-  const tinygltf::Accessor& a = model.accessors[index];
   std::string name = "accessor " + std::to_string(index);
-  if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != components) {
-    Malformed(name + " has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(a.type))) +
-              " components per element, expected " + std::to_string(components));
+  if (index < 0 || size_t(index) >= model.accessors.size()) Malformed(name + " does not exist");
+  const tinygltf::Accessor& a = model.accessors[index];
+  int actual = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+  if (actual != components) {
+    Malformed(name + " has " + std::to_string(actual) + " components per element, expected " +
+              std::to_string(components));
   }
-  int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
-  if (componentSize <= 0) Malformed(name + " has an unknown component type");
-  std::vector<double> out(a.count * components, 0.0);  // no buffer view: zeros (then sparse)
+  AccessorLayout layout{tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType)), components};
+  if (layout.componentSize <= 0) Malformed(name + " has an unknown component type");
+  constexpr size_t kMaxElements = size_t(1) << 30;  // bounds a malformed count without a view
+  if (a.count > kMaxElements) Malformed(name + " has an absurd count");
+  std::vector<double> out;
   if (a.bufferView >= 0) {
-    if (size_t(a.bufferView) >= model.bufferViews.size()) Malformed(name + " names a missing view");
-    int stride = a.ByteStride(model.bufferViews[a.bufferView]);
-    if (stride <= 0) Malformed(name + " has an invalid byte stride");
-    const unsigned char* base = ViewBytes(model, a.bufferView, a.byteOffset, a.count, stride,
-                                          size_t(componentSize) * components);
-    for (size_t i = 0; i < a.count; ++i) {
-      for (int c = 0; c < components; ++c) {
-        out[i * components + c] =
-            ReadComponent(base + i * stride + c * componentSize, a.componentType, a.normalized);
-      }
-    }
+    ReadDense(model, a, layout, out);
+  } else {
+    out.assign(a.count * components, 0.0);  // no buffer view: zeros, then the sparse values
   }
-  if (a.sparse.isSparse) {
-    const auto& s = a.sparse;
-    int indexSize = tinygltf::GetComponentSizeInBytes(uint32_t(s.indices.componentType));
-    if (indexSize <= 0 || s.count < 0) Malformed(name + " has malformed sparse indices");
-    size_t elementSize = size_t(componentSize) * components;
-    const unsigned char* idx = ViewBytes(model, s.indices.bufferView, s.indices.byteOffset,
-                                         s.count, indexSize, indexSize);
-    const unsigned char* val = ViewBytes(model, s.values.bufferView, s.values.byteOffset, s.count,
-                                         elementSize, elementSize);
-    for (int i = 0; i < s.count; ++i) {
-      double target = ReadComponent(idx + i * indexSize, s.indices.componentType, false);
-      if (target < 0 || target >= double(a.count)) Malformed(name + " has a sparse index out of range");
-      for (int c = 0; c < components; ++c) {
-        out[size_t(target) * components + c] =
-            ReadComponent(val + i * elementSize + c * componentSize, a.componentType, a.normalized);
-      }
-    }
-  }
+  if (a.sparse.isSparse) ApplySparse(model, a, layout, out);
   return out;
 }
 
@@ -140,7 +161,7 @@ std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygl
   std::vector<uint32_t> v;
   if (p.indices >= 0) {
     for (double d : ReadAccessor(model, p.indices, 1)) {
-      if (d >= double(vertexCount)) {
+      if (d < 0.0 || d >= double(vertexCount)) {
         Malformed("index " + std::to_string(uint64_t(d)) + " out of range (" +
                   std::to_string(vertexCount) + " vertices)");
       }

@@ -28,7 +28,8 @@ std::string FramesPath(const std::vector<ParseFrame>& frames, size_t count) {
       path += (path.empty() ? "" : ".") + f.currentKey;
     } else {
       if (f.index < 0) break;
-      path += "[" + std::to_string(f.index) + "]";
+      // append() rather than "[" + ...: GCC 12 gives a false -Wrestrict warning on that at -O3.
+      path.append("[").append(std::to_string(f.index)).append("]");
     }
   }
   return path;

@@ -71,7 +71,9 @@ RenderSettings ParseRender(const JsonObject& r) {
 }
 
 std::string FormatVec3(vec3 v) {
-  return "[" + FormatNumber(v.x) + ", " + FormatNumber(v.y) + ", " + FormatNumber(v.z) + "]";
+  std::string s = "[";  // appended piecewise: "[" + ... trips a GCC 12 -Wrestrict false positive
+  return s.append(FormatNumber(v.x)).append(", ").append(FormatNumber(v.y)).append(", ")
+      .append(FormatNumber(v.z)).append("]");
 }
 
 CameraDesc ParseCamera(const JsonObject& c) {

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The whole GPU check, run on the GPU machine from the repository root after
+# tools/pack_device.sh (the device tool carries .device/): build check, GPU test suite,
+# CPU/GPU agreement, compute-sanitizer, benchmark matrix. Output goes to $OUT (or out/).
+set -uo pipefail
+OUT="${OUT:-out}"
+mkdir -p "$OUT"
+ROOT="$PWD"
+BIN="$ROOT/.device/bin"
+export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
+# Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
+[ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
+STEPS="${STEPS:-info tests sanitize bench}"
+
+step() { echo; echo "=== $* ($(date +%T))"; }
+
+if [[ " $STEPS " == *" info "* ]]; then
+  step "device and libraries"
+  nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm --format=csv
+  ldd "$BIN/pathtracer" | grep -E "not found|tiny|stb" || true
+  "$BIN/pathtracer" --version
+fi
+
+if [[ " $STEPS " == *" tests "* ]]; then
+  step "test suite with the GPU cases enabled"
+  "$BIN/pt_tests" --gtest_brief=1 2>&1 | tee "$OUT/gpu_tests.log" | tail -40
+fi
+
+if [[ " $STEPS " == *" sanitize "* ]]; then
+  step "compute-sanitizer memcheck and racecheck, Cornell box 64x64 4 spp"
+  for tool in memcheck racecheck; do
+    compute-sanitizer --tool "$tool" --error-exitcode 99 "$BIN/pathtracer" scenes/cornell_box.json \
+      -o "$OUT/san_$tool.exr" --width 64 --height 64 --spp 4 --backend cuda --quiet \
+      > "$OUT/sanitizer_$tool.log" 2>&1
+    echo "$tool: exit $? ($(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY' "$OUT/sanitizer_$tool.log" | tail -1))"
+  done
+fi
+
+if [[ " $STEPS " == *" bench "* ]]; then
+  step "benchmark matrix"
+  python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
+    --scene ../shared/peer-scenes/pbrt_cornell.json --scene benchmarks/scenes/bunny_cornell.json \
+    --scene benchmarks/scenes/breakfast_room.json --out "$OUT/bench_gpu" -- ${BENCH_ARGS:-}
+fi

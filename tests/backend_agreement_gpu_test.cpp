@@ -1,0 +1,119 @@
+// The CUDA backend gives the CPU backend's answer: for every scene in scenes/, K independent
+// seeds per backend, Welch's t per 8x8 block of luminance, and no more failing blocks than a
+// binomial bound allows. GPU cases skip (with a message) where no GPU is present.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "tests/render_test_util.h"
+#include "tests/test_util.h"
+#include "tests/welch.h"
+
+namespace pt::test {
+namespace {
+
+bool HaveGpu() { return CudaDeviceCount() > 0; }
+
+SceneDesc SmallScene(const std::string& file, int size, int spp, uint32_t seed) {
+  SceneDesc desc = LoadScene(file);
+  desc.render.width = desc.render.height = size;
+  desc.render.spp = spp;
+  desc.render.seed = seed;
+  return desc;
+}
+
+// Mean Rec. 709 luminance of each 8x8 block.
+std::vector<double> BlockLuminance(const FilmImage& img) {
+  std::vector<double> blocks;
+  for (int by = 0; by + 8 <= img.height; by += 8)
+    for (int bx = 0; bx + 8 <= img.width; bx += 8) {
+      double sum = 0.0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x) {
+          const float* p = &img.rgb[3 * (size_t(y) * img.width + x)];
+          sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+      blocks.push_back(sum / 64.0);
+    }
+  return blocks;
+}
+
+TEST(BackendAgreementGpu, EveryProjectSceneAgreesWithCpu) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: the CPU/GPU agreement runs on a GPU machine";
+  const int kSeeds = 8, kSize = 64, kSpp = 16;
+  const double kBlockAlpha = 0.01;  // per-block test level
+  for (const auto& entry : std::filesystem::directory_iterator(SourcePath("scenes"))) {
+    if (entry.path().extension() != ".json") continue;
+    std::vector<std::vector<double>> cpu, gpu;  // [seed][block]
+    for (int k = 0; k < kSeeds; ++k) {
+      Scene a = BuildScene(SmallScene(entry.path().string(), kSize, kSpp, 1000 + k));
+      Scene b = BuildScene(SmallScene(entry.path().string(), kSize, kSpp, 2000 + k));
+      cpu.push_back(BlockLuminance(RenderOnCpu(a).image));
+      gpu.push_back(BlockLuminance(RenderCuda(b, RenderOptions{}).image));
+    }
+    int blocks = int(cpu[0].size()), failing = 0;
+    for (int i = 0; i < blocks; ++i) {
+      std::vector<double> x, y;
+      for (int k = 0; k < kSeeds; ++k) {
+        x.push_back(cpu[k][i]);
+        y.push_back(gpu[k][i]);
+      }
+      if (WelchPValue(x, y) < kBlockAlpha) ++failing;
+    }
+    // Under agreement, failing ~ Binomial(blocks, 0.01); the bound's tail is 1e-3 per scene.
+    int bound = BinomialUpperBound(blocks, kBlockAlpha, 1e-3);
+    EXPECT_LE(failing, bound) << entry.path().filename() << ": " << failing << " of " << blocks
+                              << " blocks differ at the 1% level";
+  }
+}
+
+// On the GPU too, compaction and sorting reorder work but not results: every path runs the
+// same code on the same random numbers, so the image is bit-identical.
+TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene = BuildScene(SmallScene(SourcePath("scenes/cornell_glass_mirror.json"), 64, 8, 5));
+  RenderOptions base;
+  base.compact = Toggle::kOff;
+  base.sort = SortMode::kOff;
+  RenderResult ref = RenderCuda(scene, base);
+  for (auto [compact, sort] : {std::pair{Toggle::kOn, SortMode::kOff},
+                               std::pair{Toggle::kOn, SortMode::kMaterial},
+                               std::pair{Toggle::kOff, SortMode::kMaterial}}) {
+    RenderOptions opt;
+    opt.compact = compact;
+    opt.sort = sort;
+    RenderResult r = RenderCuda(scene, opt);
+    EXPECT_EQ(0, std::memcmp(ref.image.rgb.data(), r.image.rgb.data(),
+                             ref.image.rgb.size() * sizeof(float)))
+        << "compact " << int(compact) << " sort " << int(sort);
+  }
+}
+
+TEST(BackendAgreementGpu, StatisticsAreFilledOnTheGpu) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene = BuildScene(SmallScene(SourcePath("scenes/cornell_box.json"), 64, 4, 1));
+  RenderResult r = RenderCuda(scene, RenderOptions{});
+  EXPECT_EQ(r.stats.backend, "cuda");
+  EXPECT_FALSE(r.stats.device.empty());
+  EXPECT_GT(r.stats.stages.intersect, 0.0);
+  EXPECT_GT(r.stats.stages.shade, 0.0);
+  EXPECT_GT(r.stats.peakDeviceBytes, 0u);
+  EXPECT_EQ(r.stats.cameraRays, 64u * 64u * 4u);
+  EXPECT_GT(r.stats.shadowRays, 0u);
+  EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
+}
+
+TEST(BackendAgreementGpu, WelchAndBinomialHelpersAreCalibrated) {
+  // Runs everywhere: the helpers the GPU tests rely on. Identical samples give p = 1;
+  // a shift of 10 standard errors gives p far below 1e-3; the binomial bound of
+  // Binomial(64, 0.01) at 1e-3 is 4 (P(X > 4) = 4.6e-4, P(X > 3) = 3.6e-3).
+  std::vector<double> a{1, 2, 3, 4, 5, 6, 7, 8}, b = a;
+  EXPECT_NEAR(WelchPValue(a, b), 1.0, 1e-12);
+  for (double& x : b) x += 10.0;
+  EXPECT_LT(WelchPValue(a, b), 1e-3);
+  EXPECT_EQ(BinomialUpperBound(64, 0.01, 1e-3), 4);
+}
+
+}  // namespace
+}  // namespace pt::test

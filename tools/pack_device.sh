@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Packs what a GPU machine without Debian's libraries needs into .device/ (git-ignored):
+# the binaries (RPATH $ORIGIN/lib), the Debian shared libraries they load, and the shared
+# assets the GPU benchmarks read. The device tool carries .device/ along with the tree.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD="${1:-build}"
+rm -rf .device && mkdir -p .device/bin/lib .device/shared/assets .device/shared/peer-scenes
+cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
+[ -f "$BUILD/make_mesh_glb" ] && cp "$BUILD/make_mesh_glb" .device/bin/
+for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
+  case "$(basename "$lib")" in
+    libtiny*|libstb*|libminiz*) cp -L "$lib" .device/bin/lib/ ;;
+  esac
+done
+# pt_tests also looks for the binaries next to the build tree's layout.
+mkdir -p .device/bin/tests && ln -sf ../pt_tests .device/bin/tests/pt_tests
+ln -sf lib .device/bin/tests/lib
+SHARED=../shared
+if [ -d "$SHARED/assets" ]; then
+  cp -r "$SHARED/assets/stanford-bunny" "$SHARED/assets/dining-room-bitterli" \
+        "$SHARED/assets/bunny-npm" .device/shared/assets/ 2>/dev/null || true
+  rm -rf .device/shared/assets/dining-room-bitterli/reference
+  cp "$SHARED/peer-scenes/"* .device/shared/peer-scenes/
+fi
+du -sh .device
