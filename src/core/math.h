@@ -4,7 +4,8 @@
 
 #include "src/core/pt.h"
 
-#define GLM_FORCE_CTOR_INIT
+// GLM_FORCE_CTOR_INIT is defined for every target by CMake: a per-header define would give
+// translation units that include glm first a different vec3 (a silent ABI mismatch).
 #include <glm/glm.hpp>
 
 #include <cfloat>

@@ -45,7 +45,7 @@ struct Aabb {
     return box;
   }
 
-  // False for the empty box and for any box with a NaN coordinate.
+  // True for the empty box, and for any box with a NaN coordinate.
   PT_HDI bool IsEmpty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
 
   // A NaN coordinate of the argument is ignored, so one bad point cannot poison a whole box.
