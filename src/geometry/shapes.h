@@ -272,6 +272,7 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
       detail::SphereSurface(s.spheres[ref.Index()], ray, hit.t, &si);
       break;
   }
+  si.texUv = si.uv;  // meshes with TEXCOORD_0 override this with interpolated coordinates
   return si;
 }
 

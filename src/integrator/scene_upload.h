@@ -18,12 +18,16 @@ struct SceneBuffers {
   typename Backend::template Buffer<Material> materials;
   typename Backend::template Buffer<Light> lights;
   typename Backend::template Buffer<float> lightPmf, lightCdf;
+  typename Backend::template Buffer<TriangleUvs> triangleUvs;
+  typename Backend::template Buffer<Texture> textures;
+  typename Backend::template Buffer<vec3> texels;
   SceneView view;
 
   size_t Bytes() const {
     return nodes.Bytes() + prims.Bytes() + triangles.Bytes() + triangleNormals.Bytes() +
            quads.Bytes() + spheres.Bytes() + materials.Bytes() + lights.Bytes() +
-           lightPmf.Bytes() + lightCdf.Bytes();
+           lightPmf.Bytes() + lightCdf.Bytes() + triangleUvs.Bytes() + textures.Bytes() +
+           texels.Bytes();
   }
 };
 
@@ -40,6 +44,9 @@ void UploadScene(const Scene& scene, SceneBuffers<Backend>& b) {
   b.lights.Upload(scene.lights);
   b.lightPmf.Upload(scene.lightPmf);
   b.lightCdf.Upload(scene.lightCdf);
+  b.triangleUvs.Upload(d.triangleUvs);
+  b.textures.Upload(d.textures);
+  b.texels.Upload(d.texels);
 
   SceneView v = HostSceneView(scene);  // counts and scalars; pointers replaced below
   v.nodes = b.nodes.Data();
@@ -52,6 +59,9 @@ void UploadScene(const Scene& scene, SceneBuffers<Backend>& b) {
   v.lights = b.lights.Data();
   v.lightPmf = b.lightPmf.Data();
   v.lightCdf = b.lightCdf.Data();
+  v.triangleUvs = d.triangleUvs.empty() ? nullptr : b.triangleUvs.Data();
+  v.textures = b.textures.Data();
+  v.texels = b.texels.Data();
   b.view = v;
 }
 

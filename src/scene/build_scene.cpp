@@ -81,6 +81,9 @@ SceneView HostSceneView(const Scene& scene) {
   v.triangleNormals = d.triangleNormals.data();
   v.quads = d.quads.data();
   v.spheres = d.spheres.data();
+  v.triangleUvs = d.triangleUvs.empty() ? nullptr : d.triangleUvs.data();
+  v.textures = d.textures.data();
+  v.texels = d.texels.data();
   v.nodeCount = uint32_t(scene.nodes.size());
   v.primCount = uint32_t(scene.prims.size());
   v.materials = d.materials.data();

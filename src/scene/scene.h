@@ -52,12 +52,15 @@ struct SceneDesc {
 
   std::vector<Triangle> triangles;
   std::vector<TriangleNormals> triangleNormals;  // same length as triangles
+  std::vector<TriangleUvs> triangleUvs;  // empty, or same length as triangles
   std::vector<uint32_t> triangleMaterials;
   std::vector<Quad> quads;
   std::vector<uint32_t> quadMaterials;
   std::vector<Sphere> spheres;
   std::vector<uint32_t> sphereMaterials;
   std::vector<PointLightDesc> pointLights;
+  std::vector<Texture> textures;
+  std::vector<vec3> texels;  // linear RGB of every texture, back to back
 
   std::vector<std::string> warnings;  // printed by the app (glTF fallbacks and the like)
   int skippedDegenerateTriangles = 0;

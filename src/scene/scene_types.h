@@ -19,6 +19,11 @@ struct TriangleNormals {
   vec3 n0, n1, n2;
 };
 
+// Per-triangle texture coordinates (glTF TEXCOORD_0); only present when a mesh has them.
+struct TriangleUvs {
+  vec2 uv0, uv1, uv2;
+};
+
 struct Quad {
   vec3 origin, u, v;  // origin + s*u + t*v, s,t in [0,1]; normal = normalize(cross(u, v))
 };
@@ -57,6 +62,17 @@ struct Material {
   vec3 absorption = vec3(0.0f);  // dielectric: Beer-Lambert coefficient per unit length
   float ior = 1.5f;            // dielectric, plastic
   float roughness = 0.0f;      // conductor, dielectric, plastic (GGX alpha = roughness^2)
+  int32_t baseColorTexture = -1;  // index into the textures; multiplies albedo
+};
+
+// ---- Textures ----
+enum class TextureWrap : uint32_t { kRepeat = 0, kClampToEdge = 1, kMirroredRepeat = 2 };
+
+// An RGB image stored linear (sRGB decoded at load) in SceneView::texels from `offset`.
+struct Texture {
+  uint32_t width = 0, height = 0;
+  uint32_t offset = 0;
+  TextureWrap wrapS = TextureWrap::kRepeat, wrapT = TextureWrap::kRepeat;
 };
 
 // ---- Lights ----

@@ -14,12 +14,15 @@ struct SceneView {
   const TriangleNormals* triangleNormals = nullptr;
   const Quad* quads = nullptr;
   const Sphere* spheres = nullptr;
+  const TriangleUvs* triangleUvs = nullptr;  // null when no mesh has texture coordinates
   uint32_t nodeCount = 0;
   uint32_t primCount = 0;
 
   // Appearance and light.
   const Material* materials = nullptr;
   uint32_t materialCount = 0;
+  const Texture* textures = nullptr;
+  const vec3* texels = nullptr;
   const Light* lights = nullptr;
   const float* lightPmf = nullptr;  // probability of choosing each light
   const float* lightCdf = nullptr;  // lightCount + 1 entries, lightCdf[0] = 0, last = 1
