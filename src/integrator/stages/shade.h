@@ -10,6 +10,7 @@
 #include "src/integrator/wave.h"
 #include "src/lights/light_sample.h"
 #include "src/materials/bsdf.h"
+#include "src/materials/texture.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -115,7 +116,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   }
 
   SurfaceInteraction si = MakeInteraction(scene, ray, hit);
-  const Material& mat = scene.materials[si.material];
+  Material mat = ResolveMaterial(scene, si);
   vec3 wo = -ray.d;
   if (mat.type == MaterialType::kEmissive) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
