@@ -86,8 +86,8 @@ def main():
     ap.add_argument("--binary", default="build/pathtracer")
     ap.add_argument("--scene", action="append", required=True)
     ap.add_argument("--backend", action="append", default=None)
-    ap.add_argument("--compact", default="on,off")
-    ap.add_argument("--sort", default="off,material")
+    ap.add_argument("--variants", default="on:off,on:material,off:off,off:material,auto:auto",
+                    help="comma-separated compact:sort pairs")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--out", default="out/bench")
     ap.add_argument("extra", nargs="*", help="extra pathtracer options after --")
@@ -99,8 +99,9 @@ def main():
         for scene in args.scene:
             for backend in backends:
                 for rep in range(args.repeats):  # repeats outermost: drift hits all variants
-                    for compact in args.compact.split(","):
-                        for sort in args.sort.split(","):
+                    for variant in args.variants.split(","):
+                        compact, sort = variant.split(":")
+                        if True:
                             stats, cmd = run_once(args.binary, scene, backend, compact, sort,
                                                   args.extra, tmp)
                             t = stats["time_ms"]
@@ -114,6 +115,7 @@ def main():
                                 "samples": stats["samples"],
                                 "stages": json.dumps(t["stages"]),
                                 "path_state_bytes": stats.get("path_state_bytes_per_path"),
+                                "peak_device_bytes": stats.get("peak_device_bytes"),
                                 "command": " ".join(cmd[:1] + [os.path.relpath(scene)] + cmd[2:3] + cmd[4:]),
                             })
                             print(f"{scene} {backend} compact={compact} sort={sort} rep={rep}: "

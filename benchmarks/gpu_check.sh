@@ -38,7 +38,13 @@ fi
 
 if [[ " $STEPS " == *" bench "* ]]; then
   step "benchmark matrix"
-  python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
-    --scene ../shared/peer-scenes/pbrt_cornell.json --scene benchmarks/scenes/bunny_cornell.json \
-    --scene benchmarks/scenes/breakfast_room.json --out "$OUT/bench_gpu" -- ${BENCH_ARGS:-}
+  R="${REPEATS:-5}"
+  BENCH="python3 benchmarks/bench.py --binary $BIN/pathtracer --backend cuda --repeats $R"
+  # pbrt-v4's own Cornell box at the figure's settings: 512x512, max_depth 8, 1024 spp.
+  $BENCH --scene ../shared/peer-scenes/pbrt_cornell.json --out "$OUT/bench_pbrt" -- --spp 1024
+  $BENCH --scene benchmarks/scenes/bunny_cornell.json --scene benchmarks/scenes/breakfast_room.json \
+    --out "$OUT/bench_scenes"
+  # Primary rays alone on the bunny scene.
+  $BENCH --scene benchmarks/scenes/bunny_cornell.json --variants on:off,auto:auto \
+    --out "$OUT/bench_primary" -- --max-depth 0
 fi

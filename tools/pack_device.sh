@@ -19,8 +19,12 @@ ln -sf lib .device/bin/tests/lib
 SHARED=../shared
 if [ -d "$SHARED/assets" ]; then
   cp -r "$SHARED/assets/stanford-bunny" "$SHARED/assets/dining-room-bitterli" \
-        "$SHARED/assets/bunny-npm" .device/shared/assets/ 2>/dev/null || true
-  rm -rf .device/shared/assets/dining-room-bitterli/reference
+        "$SHARED/assets/bunny-npm" "$SHARED/assets/cornell-box-original" .device/shared/assets/
+  rm -rf .device/shared/assets/dining-room-bitterli/reference .device/shared/assets/*/reference
+  mkdir -p .device/shared/assets/khronos
+  for m in Box Duck GlassHurricaneCandleHolder TransmissionRoughnessTest; do
+    cp -r "$SHARED/assets/khronos/$m" .device/shared/assets/khronos/
+  done
   cp "$SHARED/peer-scenes/"* .device/shared/peer-scenes/
 fi
 du -sh .device
