@@ -303,16 +303,40 @@ TEST(SceneErrors, MissingOrMalformedSceneFile) {
             std::string::npos) << ErrorOf("[1, 2]");
 }
 
-TEST(SceneErrors, RoughAndPlasticNotSupportedYet) {
-  ExpectError(WithMaterial(R"({"type": "plastic", "albedo": [0.8, 0.1, 0.1], "ior": 1.5})"),
-              "materials.m.type", "not supported yet");
-  ExpectError(WithMaterial(R"({"type": "conductor", "albedo": [1, 1, 1], "roughness": 0.2})"),
-              "materials.m.roughness", "not supported yet");
-  ExpectError(WithMaterial(R"({"type": "dielectric", "ior": 1.5, "roughness": 0.1})"),
-              "materials.m.roughness", "not supported yet");
-  // Parsed fully first: a bad field of a plastic is reported as such.
+// Rough conductors and dielectrics and plastic (smooth and rough) render now: they load with
+// the fields as written, and their fields are still checked.
+TEST(SceneErrors, RoughAndPlasticMaterialsLoad) {
+  struct Case {
+    const char* json;
+    MaterialType type;
+    float roughness;
+  };
+  const Case cases[] = {
+      {R"({"type": "plastic", "albedo": [0.8, 0.1, 0.1], "ior": 1.5})", MaterialType::kPlastic, 0.0f},
+      {R"({"type": "plastic", "albedo": [0.8, 0.1, 0.1], "ior": 1.5, "roughness": 0.3})",
+       MaterialType::kPlastic, 0.3f},
+      {R"({"type": "conductor", "albedo": [1, 1, 1], "roughness": 0.2})", MaterialType::kConductor,
+       0.2f},
+      {R"({"type": "dielectric", "ior": 1.5, "roughness": 0.1})", MaterialType::kDielectric, 0.1f},
+  };
+  for (const Case& c : cases) {
+    SceneDesc s = LoadSceneFromString(WithMaterial(c.json).Text(), "scenes/ok.json",
+                                      test::SourcePath("scenes"));
+    ASSERT_EQ(s.materials.size(), 1u) << c.json;
+    EXPECT_EQ(s.materials[0].type, c.type) << c.json;
+    EXPECT_EQ(s.materials[0].roughness, c.roughness) << c.json;
+  }
+  SceneDesc plastic = LoadSceneFromString(WithMaterial(cases[1].json).Text(), "scenes/ok.json",
+                                          test::SourcePath("scenes"));
+  EXPECT_EQ(plastic.materials[0].albedo, vec3(0.8f, 0.1f, 0.1f));
+  EXPECT_EQ(plastic.materials[0].ior, 1.5f);
+  // Their fields are still checked: a bad field of a plastic is reported as such.
   ExpectError(WithMaterial(R"({"type": "plastic", "albedo": [2, 0, 0], "ior": 1.5})"),
               "materials.m.albedo[0]", "outside [0, 1]");
+  ExpectError(WithMaterial(R"({"type": "plastic", "albedo": [0.5, 0.5, 0.5]})"),
+              "materials.m.ior", "missing required field");
+  ExpectError(WithMaterial(R"({"type": "dielectric", "ior": 1.5, "roughness": 1.2})"),
+              "materials.m.roughness", "outside [0, 1]");
 }
 
 }  // namespace

@@ -275,9 +275,11 @@ TEST(SceneGltf, KhronosBoxWithNodeTransform) {
   ExpectNormalsAgree(s);  // the node's y/z swap reaches positions and normals alike
   int red = MaterialNamed(s, ":Red");
   ASSERT_GE(red, 0);
-  EXPECT_EQ(s.materials[red].type, MaterialType::kDiffuse);  // plastic, mapped to diffuse
+  EXPECT_EQ(s.materials[red].type, MaterialType::kPlastic);  // metallic 0: the glTF dielectric
+  EXPECT_FLOAT_EQ(s.materials[red].ior, 1.5f);
+  EXPECT_FLOAT_EQ(s.materials[red].roughness, 1.0f);  // glTF default roughness
   ExpectNear(s.materials[red].albedo, vec3(0.8f, 0, 0));
-  EXPECT_TRUE(AnyWarningContains(s, "\"Red\""));
+  EXPECT_FALSE(AnyWarningContains(s, "\"Red\"")) << s.warnings.front();  // nothing approximated
 }
 
 TEST(SceneGltf, BunnyNpmTriangleCount) {
@@ -300,13 +302,19 @@ TEST(SceneGltf, TransmissionMaterialsMapWithWarnings) {
   const Material& g = s.materials[glass];
   EXPECT_EQ(g.type, MaterialType::kDielectric);
   EXPECT_FLOAT_EQ(g.ior, 1.5f);
-  EXPECT_EQ(g.roughness, 0.0f);  // glTF default roughness 1, rendered smooth with a warning
+  EXPECT_EQ(g.roughness, 1.0f);  // glTF default roughness 1: rough glass
+  EXPECT_EQ(g.baseColorTexture, -1);  // the tint of transmission is not honoured (warned)
   ExpectNear(g.absorption, vec3(-std::log(0.8f) / 0.001f, -std::log(0.95f) / 0.001f, 0), 1e-2f);
   EXPECT_TRUE(AnyWarningContains(s, "GlassHurricaneCandleHolder-glass"));
-  EXPECT_TRUE(AnyWarningContains(s, "rough transmission"));
+  EXPECT_FALSE(AnyWarningContains(s, "rough transmission"));
+  EXPECT_TRUE(AnyWarningContains(s, "baseColor tint of the transmission ignored"));
+  EXPECT_TRUE(AnyWarningContains(s, "thicknessTexture"));
   int opaque = MaterialNamed(s, ":GlassHurricaneCandleHolder-opaque");
   ASSERT_GE(opaque, 0);
   EXPECT_EQ(s.materials[opaque].type, MaterialType::kConductor);  // glTF default metallic 1
+  EXPECT_EQ(s.materials[opaque].roughness, 1.0f);
+  EXPECT_GE(s.materials[opaque].baseColorTexture, 0);  // decoded: the opaque part uses it
+  EXPECT_EQ(s.triangleUvs.size(), s.triangles.size());
 
   SceneDesc iors = Load(Scene(R"({"type": "mesh", "file": ")" +
       test::SharedPath("assets/khronos/TransmissionRoughnessTest/glTF-Binary/"

@@ -272,7 +272,13 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
       detail::SphereSurface(s.spheres[ref.Index()], ray, hit.t, &si);
       break;
   }
-  si.texUv = si.uv;  // meshes with TEXCOORD_0 override this with interpolated coordinates
+  si.texUv = si.uv;
+  if (ref.Type() == ShapeType::kTriangle && s.triangleUvs != nullptr) {
+    // TEXCOORD_0 interpolated (zeros for triangles of meshes without coordinates).
+    const TriangleUvs& t = s.triangleUvs[ref.Index()];
+    float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.0f - b1 - b2;
+    si.texUv = b0 * t.uv0 + b1 * t.uv1 + b2 * t.uv2;
+  }
   return si;
 }
 

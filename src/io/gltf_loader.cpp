@@ -6,15 +6,23 @@
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace pt {
 namespace {
 
 constexpr int kMaxNodeDepth = 256;  // deeper is a cycle (glTF forbids them) or abuse
 
-// Textures are not used yet: keep tinygltf from decoding images (seconds for large models).
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*) {
+// tinygltf decodes every image while it parses (seconds for large models, and most images are
+// normal or roughness maps the renderer does not use). This loader only keeps the encoded bytes
+// of images given by URI (those in buffer views stay in their buffer); GltfMaterialTable
+// decodes an image when a used material needs it.
+bool CaptureImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* userData) {
+  if (image->bufferView >= 0 || index < 0 || size <= 0) return true;
+  auto& store = *static_cast<GltfEncodedImages*>(userData);
+  if (store.size() <= size_t(index)) store.resize(size_t(index) + 1);
+  store[index].assign(bytes, bytes + size);
   return true;
 }
 
@@ -26,9 +34,9 @@ bool HasGlbMagic(const std::string& path) {
   return in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0;
 }
 
-tinygltf::Model ReadModel(const std::string& path, MeshSink& sink) {
+tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedImages& images) {
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(SkipImage, nullptr);
+  loader.SetImageLoader(CaptureImage, &images);
   tinygltf::Model model;
   std::string err, warn;
   bool ok = HasGlbMagic(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
@@ -155,6 +163,14 @@ std::vector<vec3> ReadVec3s(const tinygltf::Model& model, int index) {
   return out;
 }
 
+// TEXCOORD_n: float, or normalized unsigned byte/short (normalization applied when reading).
+std::vector<vec2> ReadVec2s(const tinygltf::Model& model, int index) {
+  std::vector<double> raw = ReadAccessor(model, index, 2);
+  std::vector<vec2> out(raw.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = vec2(float(raw[2 * i]), float(raw[2 * i + 1]));
+  return out;
+}
+
 // Vertex indices of the primitive's triangles, three per triangle, in glTF winding.
 std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygltf::Primitive& p,
                                       size_t vertexCount) {
@@ -213,8 +229,8 @@ glm::dmat4 LocalMatrix(const tinygltf::Node& node) {
 // Walks the node hierarchy and emits each mesh's triangles.
 class GltfWalker {
  public:
-  GltfWalker(const tinygltf::Model& model, MeshSink& sink)
-      : model_(model), sink_(sink), materials_(model.materials.size(), -1) {}
+  GltfWalker(const tinygltf::Model& model, const GltfEncodedImages& images, MeshSink& sink)
+      : model_(model), sink_(sink), materials_(model, images, sink) {}
 
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
     if (index < 0 || size_t(index) >= model_.nodes.size()) {
@@ -236,6 +252,17 @@ class GltfWalker {
     for (const tinygltf::Primitive& p : model_.meshes[meshIndex].primitives) EmitPrimitive(p);
   }
 
+  // An optional per-vertex attribute; its count must match the positions'.
+  template <typename Read>
+  std::invoke_result_t<Read, const tinygltf::Model&, int> Attribute(
+      const tinygltf::Primitive& p, const char* name, size_t vertexCount, Read read) {
+    auto it = p.attributes.find(name);
+    if (it == p.attributes.end()) return {};
+    auto values = read(model_, it->second);
+    if (values.size() != vertexCount) Malformed(std::string(name) + " and POSITION counts differ");
+    return values;
+  }
+
   void EmitPrimitive(const tinygltf::Primitive& p) {
     bool triangles = p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
                      p.mode == TINYGLTF_MODE_TRIANGLE_FAN;
@@ -247,55 +274,31 @@ class GltfWalker {
     auto position = p.attributes.find("POSITION");
     if (position == p.attributes.end()) Malformed("a primitive has no POSITION attribute");
     std::vector<vec3> positions = ReadVec3s(model_, position->second);
-    std::vector<vec3> normals;
-    auto normal = p.attributes.find("NORMAL");
-    if (normal != p.attributes.end()) normals = ReadVec3s(model_, normal->second);
-    if (!normals.empty() && normals.size() != positions.size()) {
-      Malformed("NORMAL and POSITION counts differ");
+    std::vector<vec3> normals = Attribute(p, "NORMAL", positions.size(), ReadVec3s);
+    std::vector<vec2> uvs = Attribute(p, "TEXCOORD_0", positions.size(), ReadVec2s);
+    uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(p.material);
+    if (uvs.empty() && !sink_.HasOverride() && materials_.Textured(p.material) && !warnedUvs_) {
+      sink_.Warn("a primitive without TEXCOORD_0 uses a textured material: the texture is read at "
+                 "(0, 0)");
+      warnedUvs_ = true;
     }
-    uint32_t material = sink_.HasOverride() ? sink_.Override() : MaterialIndex(p.material);
     std::vector<uint32_t> tri = TriangleIndices(model_, p, positions.size());
     for (size_t t = 0; t + 2 < tri.size(); t += 3) {
-      vec3 pos[3] = {positions[tri[t]], positions[tri[t + 1]], positions[tri[t + 2]]};
-      if (normals.empty()) {
-        sink_.Add(pos, nullptr, material);
-      } else {
-        vec3 nor[3] = {normals[tri[t]], normals[tri[t + 1]], normals[tri[t + 2]]};
-        sink_.Add(pos, nor, material);
-      }
+      uint32_t i0 = tri[t], i1 = tri[t + 1], i2 = tri[t + 2];
+      vec3 pos[3] = {positions[i0], positions[i1], positions[i2]};
+      vec3 nor[3];
+      vec2 uv[3];
+      if (!normals.empty()) nor[0] = normals[i0], nor[1] = normals[i1], nor[2] = normals[i2];
+      if (!uvs.empty()) uv[0] = uvs[i0], uv[1] = uvs[i1], uv[2] = uvs[i2];
+      sink_.Add(pos, normals.empty() ? nullptr : nor, material, uvs.empty() ? nullptr : uv);
     }
-  }
-
-  // The scene material for a glTF material index (-1: the glTF default material), added on
-  // first use with a warning naming any approximation.
-  uint32_t MaterialIndex(int index) {
-    if (index >= int(model_.materials.size())) {
-      Malformed("material " + std::to_string(index) + " does not exist");
-    }
-    int64_t& slot = index < 0 ? defaultMaterial_ : materials_[index];
-    if (slot >= 0) return uint32_t(slot);
-    tinygltf::Material fallback;  // the glTF default: white, metallic 1, roughness 1
-    fallback.emissiveFactor = {0.0, 0.0, 0.0};
-    const tinygltf::Material& source = index < 0 ? fallback : model_.materials[index];
-    std::string name = index < 0 ? "default material"
-                                 : "material \"" + source.name + "\" (#" + std::to_string(index) + ")";
-    MappedGltfMaterial mapped = MapGltfMaterial(source);
-    if (!mapped.approximations.empty()) {
-      std::string notes;
-      for (const std::string& a : mapped.approximations) notes += (notes.empty() ? "" : "; ") + a;
-      sink_.Warn(name + ": " + notes);
-    }
-    std::string shortName = index < 0 ? "default"
-                            : source.name.empty() ? "#" + std::to_string(index) : source.name;
-    slot = sink_.AddMaterial(mapped.material, sink_.Label() + ":" + shortName);
-    return uint32_t(slot);
   }
 
   const tinygltf::Model& model_;
   MeshSink& sink_;
-  std::vector<int64_t> materials_;
-  int64_t defaultMaterial_ = -1;
+  GltfMaterialTable materials_;
   bool warnedMode_ = false;
+  bool warnedUvs_ = false;
 };
 
 std::vector<int> RootNodes(const tinygltf::Model& model) {
@@ -321,8 +324,9 @@ std::vector<int> RootNodes(const tinygltf::Model& model) {
 }  // namespace
 
 void LoadGltfMesh(const std::string& path, MeshSink& sink) {
-  tinygltf::Model model = ReadModel(path, sink);
-  GltfWalker walker(model, sink);
+  GltfEncodedImages images;
+  tinygltf::Model model = ReadModel(path, sink, images);
+  GltfWalker walker(model, images, sink);
   for (int root : RootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
 }
 

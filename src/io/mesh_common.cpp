@@ -1,6 +1,8 @@
 #include "src/io/mesh_common.h"
 
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 
 namespace pt {
 
@@ -38,7 +40,7 @@ void MeshSink::SetTransform(const glm::dmat4& toWorld) {
   normalMatrix_ = glm::transpose(glm::inverse(glm::dmat3(toWorld)));
 }
 
-bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material) {
+bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs) {
   vec3 w[3];
   for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
   if (IsDegenerateTriangle(w[0], w[1], w[2])) {
@@ -57,6 +59,18 @@ bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material) {
     }
     if (valid) tn = TriangleNormals{n[0], n[1], n[2]};
   }
+  std::vector<TriangleUvs>& allUvs = scene_.triangleUvs;
+  if (uvs) {
+    allUvs.resize(scene_.triangles.size());  // the first textured triangle: zeros before it
+    vec2 uv[3];
+    for (int i = 0; i < 3; ++i) {
+      bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
+      uv[i] = finite ? uvs[i] : vec2(0.0f);  // a NaN coordinate would poison the lookup
+    }
+    allUvs.push_back(TriangleUvs{uv[0], uv[1], uv[2]});
+  } else if (!allUvs.empty()) {
+    allUvs.push_back(TriangleUvs{});
+  }
   scene_.triangles.push_back(Triangle{w[0], w[1], w[2]});
   scene_.triangleNormals.push_back(tn);
   scene_.triangleMaterials.push_back(HasOverride() ? Override() : material);
@@ -67,6 +81,35 @@ uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name
   scene_.materials.push_back(material);
   scene_.materialNames.push_back(name);
   return uint32_t(scene_.materials.size() - 1);
+}
+
+int32_t MeshSink::AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS, TextureWrap wrapT,
+                             const std::vector<vec3>& texels) {
+  // Lookups index texels with int32 (row * width + column) from a uint32 offset.
+  constexpr uint64_t kMaxTexels = uint64_t(INT32_MAX);
+  uint64_t count = uint64_t(width) * height;
+  if (width == 0 || height == 0 || count != texels.size() || count > kMaxTexels ||
+      scene_.texels.size() + count > uint64_t(UINT32_MAX)) {
+    throw std::runtime_error("texture of " + std::to_string(width) + " x " +
+                             std::to_string(height) + " texels is empty or too large");
+  }
+  Texture t;
+  t.width = width;
+  t.height = height;
+  t.offset = uint32_t(scene_.texels.size());
+  t.wrapS = wrapS;
+  t.wrapT = wrapT;
+  scene_.texels.insert(scene_.texels.end(), texels.begin(), texels.end());
+  scene_.textures.push_back(t);
+  return int32_t(scene_.textures.size() - 1);
+}
+
+int32_t MeshSink::AddTextureView(int32_t texture, TextureWrap wrapS, TextureWrap wrapT) {
+  Texture t = scene_.textures.at(size_t(texture));
+  t.wrapS = wrapS;
+  t.wrapT = wrapT;
+  scene_.textures.push_back(t);
+  return int32_t(scene_.textures.size() - 1);
 }
 
 }  // namespace pt

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "src/scene/scene.h"
 
@@ -31,10 +32,19 @@ class MeshSink {
 
   // toWorld maps the mesh's coordinates to world space.
   void SetTransform(const glm::dmat4& toWorld);
-  // normals: three vertex normals, or null. Returns false when the triangle was skipped.
-  bool Add(const vec3 p[3], const vec3* normals, uint32_t material);
+  // normals: three vertex normals, or null; uvs: three texture coordinates, or null. Keeps
+  // SceneDesc::triangleUvs parallel to the triangles once any triangle has coordinates
+  // (earlier and later triangles without them get zeros). Returns false when skipped.
+  bool Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs = nullptr);
 
   uint32_t AddMaterial(const Material& material, const std::string& name);
+  // Appends a texture's linear RGB texels (width * height, rows top to bottom); returns its index.
+  // Throws std::runtime_error when the scene's texel storage would overflow.
+  int32_t AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS, TextureWrap wrapT,
+                     const std::vector<vec3>& texels);
+  const Texture& TextureAt(int32_t texture) const { return scene_.textures.at(size_t(texture)); }
+  // A new texture sharing the texels of an existing one, with other wrap modes.
+  int32_t AddTextureView(int32_t texture, TextureWrap wrapS, TextureWrap wrapT);
   void Warn(const std::string& message) { scene_.warnings.push_back(label_ + ": " + message); }
 
  private:

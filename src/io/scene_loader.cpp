@@ -98,17 +98,6 @@ CameraDesc ParseCamera(const JsonObject& c) {
 
 // ---- Materials ------------------------------------------------------------------------------
 
-// Rough lobes and plastic are parsed (so their fields are checked) but not rendered yet.
-void RejectUnsupported(const JsonObject& m, const Material& mat) {
-  if (mat.type == MaterialType::kPlastic) {
-    m.Fail("type", "\"plastic\" materials are not supported yet (they arrive with rough materials)");
-  }
-  if (mat.roughness > 0.0f) {
-    m.Fail("roughness", FormatNumber(mat.roughness) +
-                            ": rough materials (roughness > 0) are not supported yet; use 0");
-  }
-}
-
 Material ParseMaterial(const JsonObject& m) {
   std::string type = m.String("type");
   Material mat;
@@ -142,7 +131,6 @@ Material ParseMaterial(const JsonObject& m) {
     m.Fail("type", "unknown material type \"" + type +
                        "\" (expected diffuse, emissive, conductor, dielectric or plastic)");
   }
-  RejectUnsupported(m, mat);
   return mat;
 }
 

@@ -1,7 +1,8 @@
 // BSDF evaluation, pdf and importance sampling for the closed set of materials, in the local
 // shading frame (z = shading normal; for dielectrics z points outside). One switch on
-// MaterialType per entry point; each lobe is a small function so GGX lobes (rough conductor,
-// rough dielectric, plastic) slot in beside the smooth ones without touching the callers.
+// MaterialType per entry point; each lobe is a small function: Lambert, smooth and GGX
+// conductor, smooth and GGX dielectric here, plastic in plastic.h, the GGX distribution in
+// microfacet.h.
 //
 // Conventions (pbrt-v4): wo and wi point away from the surface; f excludes the cosine; pdf is
 // per unit solid angle for non-delta lobes. For a delta lobe pdf is the discrete probability of
@@ -11,27 +12,16 @@
 
 #include "src/core/sampling.h"
 #include "src/materials/fresnel.h"
+#include "src/materials/microfacet.h"
+#include "src/materials/plastic.h"
 #include "src/scene/scene_types.h"
 
 namespace pt {
 
-struct BsdfSample {
-  vec3 f = vec3(0.0f);
-  vec3 wi = vec3(0.0f);
-  float pdf = 0.0f;
-  bool isDelta = false;
-  bool isTransmission = false;
-  float eta = 1.0f;  // relative index crossed (pbrt's etap): 1 for reflection
-};
-
-PT_HDI float AbsCosTheta(vec3 w) { return fabsf(w.z); }
-PT_HDI bool SameHemisphere(vec3 a, vec3 b) { return a.z * b.z > 0.0f; }
-
-// GGX alpha = roughness^2 (glTF). Below this a lobe is a perfect mirror (pbrt-v4's
-// EffectivelySmooth). The rough lobes are not implemented yet and the loader rejects
-// roughness > 0, so for now every conductor and dielectric uses its smooth lobe.
-constexpr float kSmoothAlpha = 1e-3f;
-PT_HDI bool IsSmooth(const Material& m) { return m.roughness * m.roughness < kSmoothAlpha; }
+// GGX alpha = roughness^2 below kSmoothAlpha: the lobe is a perfect mirror / smooth glass.
+PT_HDI bool IsSmooth(const Material& m) { return IsEffectivelySmooth(m.roughness); }
+// Smooth glass, or glass that does not bend light (ior 1: no half vector for refraction).
+PT_HDI bool IsSmoothDielectric(const Material& m) { return IsSmooth(m) || m.ior == 1.0f; }
 
 // ---- Lambertian (two-sided: wo.z < 0 samples and evaluates the lower hemisphere) ----
 
@@ -73,6 +63,51 @@ PT_HDI bool SampleSmoothConductor(const Material& m, vec3 wo, BsdfSample* s) {
   return !IsBlack(s->f);
 }
 
+// ---- Rough conductor: GGX reflection, Schlick Fresnel at the microfacet (two-sided) ----
+
+PT_HDI vec3 EvalRoughConductor(const Material& m, vec3 wo, vec3 wi) {
+  if (wo.z < 0.0f) {
+    wo = FlipZ(wo);
+    wi = FlipZ(wi);
+  }
+  vec3 wm;
+  if (wo.z <= 0.0f || wi.z <= 0.0f || !ReflectionHalfVector(wo, wi, &wm)) return vec3(0.0f);
+  GgxDistribution d{GgxAlpha(m.roughness)};
+  float dg = d.D(wm) * d.G(wo, wi) / (4.0f * wo.z * wi.z);
+  return FresnelSchlick(m.albedo, glm::dot(wo, wm)) * dg;
+}
+
+PT_HDI float PdfRoughConductor(const Material& m, vec3 wo, vec3 wi) {
+  if (wo.z < 0.0f) {
+    wo = FlipZ(wo);
+    wi = FlipZ(wi);
+  }
+  vec3 wm;
+  if (wo.z <= 0.0f || wi.z <= 0.0f || !ReflectionHalfVector(wo, wi, &wm)) return 0.0f;
+  return GgxDistribution{GgxAlpha(m.roughness)}.ReflectionPdf(wo, wm);
+}
+
+// Reflects wo about a visible normal; the weight is F G / G1(wo) <= 1.
+PT_HDI bool SampleRoughConductor(const Material& m, vec3 wo, vec2 u, BsdfSample* s) {
+  if (wo.z == 0.0f) return false;
+  bool back = wo.z < 0.0f;
+  if (back) wo = FlipZ(wo);
+  GgxDistribution d{GgxAlpha(m.roughness)};
+  vec3 wm = d.SampleVisibleNormal(wo, u);
+  vec3 wi = Reflect(wo, wm);
+  if (wi.z <= 0.0f) return false;  // shadowed: single scattering loses this energy
+  float pdf = d.ReflectionPdf(wo, wm);
+  if (pdf == 0.0f) return false;
+  float dg = d.D(wm) * d.G(wo, wi) / (4.0f * wo.z * wi.z);
+  s->f = FresnelSchlick(m.albedo, glm::dot(wo, wm)) * dg;
+  s->wi = back ? FlipZ(wi) : wi;
+  s->pdf = pdf;
+  s->isDelta = false;
+  s->isTransmission = false;
+  s->eta = 1.0f;
+  return true;
+}
+
 // ---- Smooth dielectric: Fresnel-weighted choice of reflection or refraction ----
 // wo.z > 0 is outside (vacuum), wo.z < 0 inside the medium of index m.ior.
 
@@ -106,16 +141,106 @@ PT_HDI bool SampleSmoothDielectric(const Material& m, vec3 wo, float uc, BsdfSam
   return true;
 }
 
+// ---- Rough dielectric: GGX reflection and transmission with exact Fresnel (pbrt-v4) ----
+// wo.z > 0 is outside. Reflection or refraction is chosen with the Fresnel reflectance of the
+// sampled microfacet, so every sample weighs G / G1(wo) (times 1 / eta^2 when refracting).
+
+// What Eval and Pdf need about a pair: pbrt-v4's generalised half vector, facing +z.
+struct DielectricPair {
+  vec3 wm;
+  float etap;  // relative index crossed; 1 for reflection
+  bool reflect;
+};
+
+PT_HDI bool MakeDielectricPair(float ior, vec3 wo, vec3 wi, DielectricPair* q) {
+  float cosO = wo.z, cosI = wi.z;
+  if (cosO == 0.0f || cosI == 0.0f) return false;
+  q->reflect = cosO * cosI > 0.0f;
+  q->etap = q->reflect ? 1.0f : (cosO > 0.0f ? ior : 1.0f / ior);
+  vec3 h = wi * q->etap + wo;
+  float lenSq = glm::dot(h, h);
+  if (lenSq == 0.0f) return false;
+  h /= sqrtf(lenSq);
+  if (h.z < 0.0f) h = -h;
+  // A microfacet that either direction sees from behind contributes nothing.
+  if (glm::dot(h, wi) * cosI < 0.0f || glm::dot(h, wo) * cosO < 0.0f) return false;
+  q->wm = h;
+  return true;
+}
+
+// f for a pair, given the microfacet's Fresnel reflectance r.
+PT_HDI float RoughDielectricF(const GgxDistribution& d, float r, vec3 wo, vec3 wi,
+                              const DielectricPair& q) {
+  float dg = d.D(q.wm) * d.G(wo, wi);
+  if (q.reflect) return dg * r / fabsf(4.0f * wi.z * wo.z);
+  float cosIM = glm::dot(wi, q.wm), cosOM = glm::dot(wo, q.wm);
+  float denom = Sqr(cosIM + cosOM / q.etap) * wi.z * wo.z;
+  if (denom == 0.0f) return 0.0f;
+  // Radiance is compressed by etap^2 on entering the denser medium (as the smooth lobe).
+  return dg * (1.0f - r) * fabsf(cosIM * cosOM / denom) / Sqr(q.etap);
+}
+
+// Density of the pair: VNDF, times the Jacobian of reflection or refraction, times the
+// probability r or 1 - r of the branch.
+PT_HDI float RoughDielectricPdf(const GgxDistribution& d, float r, vec3 wo, vec3 wi,
+                                const DielectricPair& q) {
+  if (q.reflect) return d.ReflectionPdf(wo, q.wm) * r;
+  float cosIM = glm::dot(wi, q.wm);
+  float denom = Sqr(cosIM + glm::dot(wo, q.wm) / q.etap);
+  if (denom == 0.0f) return 0.0f;
+  return d.VisibleD(wo, q.wm) * (fabsf(cosIM) / denom) * (1.0f - r);  // dwm / dwi
+}
+
+PT_HDI vec3 EvalRoughDielectric(const Material& m, vec3 wo, vec3 wi) {
+  DielectricPair q;
+  if (!MakeDielectricPair(m.ior, wo, wi, &q)) return vec3(0.0f);
+  float r = FresnelDielectric(glm::dot(wo, q.wm), m.ior);
+  return vec3(RoughDielectricF(GgxDistribution{GgxAlpha(m.roughness)}, r, wo, wi, q));
+}
+
+PT_HDI float PdfRoughDielectric(const Material& m, vec3 wo, vec3 wi) {
+  DielectricPair q;
+  if (!MakeDielectricPair(m.ior, wo, wi, &q)) return 0.0f;
+  float r = FresnelDielectric(glm::dot(wo, q.wm), m.ior);
+  return RoughDielectricPdf(GgxDistribution{GgxAlpha(m.roughness)}, r, wo, wi, q);
+}
+
+PT_HDI bool SampleRoughDielectric(const Material& m, vec3 wo, float uc, vec2 u,
+                                  BsdfSample* s) {
+  if (wo.z == 0.0f) return false;
+  GgxDistribution d{GgxAlpha(m.roughness)};
+  DielectricPair q{d.SampleVisibleNormal(wo, u), 1.0f, true};
+  float r = FresnelDielectric(glm::dot(wo, q.wm), m.ior);  // 1 under total internal reflection
+  vec3 wi;
+  if (uc < r) {
+    wi = Reflect(wo, q.wm);
+    if (!SameHemisphere(wo, wi)) return false;
+  } else {
+    if (!Refract(wo, q.wm, m.ior, &q.etap, &wi) || wi.z * wo.z >= 0.0f) return false;
+    q.reflect = false;
+  }
+  s->pdf = RoughDielectricPdf(d, r, wo, wi, q);
+  if (s->pdf == 0.0f) return false;
+  s->f = vec3(RoughDielectricF(d, r, wo, wi, q));
+  s->wi = wi;
+  s->isDelta = false;
+  s->isTransmission = !q.reflect;
+  s->eta = q.etap;
+  return true;
+}
+
 // ---- Entry points ----
 
 // f(wo, wi) without the cosine. Zero for delta lobes and for materials that reflect nothing.
 PT_HDI vec3 EvalBsdf(const Material& m, vec3 wo, vec3 wi) {
   switch (m.type) {
     case MaterialType::kDiffuse: return EvalLambert(m, wo, wi);
-    case MaterialType::kConductor:   // smooth: delta (GGX lobe goes here when !IsSmooth)
-    case MaterialType::kDielectric:  // smooth: delta (rough GGX goes here)
-    case MaterialType::kPlastic:     // not rendered yet: the loader rejects it
-    case MaterialType::kEmissive:    // emits, reflects nothing
+    case MaterialType::kConductor:
+      return IsSmooth(m) ? vec3(0.0f) : EvalRoughConductor(m, wo, wi);
+    case MaterialType::kDielectric:
+      return IsSmoothDielectric(m) ? vec3(0.0f) : EvalRoughDielectric(m, wo, wi);
+    case MaterialType::kPlastic: return EvalPlastic(m, wo, wi);  // smooth: the base only
+    case MaterialType::kEmissive:  // emits, reflects nothing
     default: return vec3(0.0f);
   }
 }
@@ -124,36 +249,40 @@ PT_HDI vec3 EvalBsdf(const Material& m, vec3 wo, vec3 wi) {
 PT_HDI float PdfBsdf(const Material& m, vec3 wo, vec3 wi) {
   switch (m.type) {
     case MaterialType::kDiffuse: return PdfLambert(wo, wi);
-    case MaterialType::kConductor:
+    case MaterialType::kConductor: return IsSmooth(m) ? 0.0f : PdfRoughConductor(m, wo, wi);
     case MaterialType::kDielectric:
-    case MaterialType::kPlastic:
+      return IsSmoothDielectric(m) ? 0.0f : PdfRoughDielectric(m, wo, wi);
+    case MaterialType::kPlastic: return PdfPlastic(m, wo, wi);
     case MaterialType::kEmissive:
     default: return 0.0f;
   }
 }
 
 // Draws wi given wo; uc picks a lobe, u the direction. Returns false when the path ends here
-// (absorbed, black, grazing, or a material that reflects nothing: emissive, and plastic until
-// the rough-materials issue lands; the loader rejects plastic until then).
+// (absorbed, black, grazing, shadowed by the microfacets, or an emitter, which reflects
+// nothing).
 PT_HDI bool SampleBsdf(const Material& m, vec3 wo, float uc, vec2 u, BsdfSample* s) {
   switch (m.type) {
     case MaterialType::kDiffuse: return SampleLambert(m, wo, u, s);
-    case MaterialType::kConductor: return SampleSmoothConductor(m, wo, s);
-    case MaterialType::kDielectric: return SampleSmoothDielectric(m, wo, uc, s);
-    case MaterialType::kPlastic:
+    case MaterialType::kConductor:
+      return IsSmooth(m) ? SampleSmoothConductor(m, wo, s) : SampleRoughConductor(m, wo, u, s);
+    case MaterialType::kDielectric:
+      return IsSmoothDielectric(m) ? SampleSmoothDielectric(m, wo, uc, s)
+                                   : SampleRoughDielectric(m, wo, uc, u, s);
+    case MaterialType::kPlastic: return SamplePlastic(m, wo, uc, u, s);
     case MaterialType::kEmissive:
     default: return false;
   }
 }
 
-// True where next-event estimation can contribute (some lobe is not a Dirac delta). Becomes
-// !IsSmooth(m) for conductors and dielectrics, and true for plastic, with the GGX lobes.
+// True where next-event estimation can contribute (some lobe is not a Dirac delta): every
+// plastic (its base is diffuse), rough conductors and rough glass.
 PT_HDI bool HasNonDeltaLobe(const Material& m) {
   switch (m.type) {
     case MaterialType::kDiffuse: return !IsBlack(m.albedo);
-    case MaterialType::kConductor:
-    case MaterialType::kDielectric:
-    case MaterialType::kPlastic:
+    case MaterialType::kConductor: return !IsSmooth(m);
+    case MaterialType::kDielectric: return !IsSmoothDielectric(m);
+    case MaterialType::kPlastic: return true;
     case MaterialType::kEmissive:
     default: return false;
   }

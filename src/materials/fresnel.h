@@ -1,11 +1,30 @@
-// Fresnel reflectance and Snell refraction, shared by every BSDF lobe (smooth now, GGX later).
-// Conventions follow pbrt-v4: directions point away from the surface, eta is the relative
-// index of refraction (inside / outside) and a negative cosine means "arriving from inside".
+// Fresnel reflectance and Snell refraction, and the sample record and hemisphere helpers that
+// every BSDF lobe shares (here, so that bsdf.h and plastic.h both include them without a
+// cycle). Conventions follow pbrt-v4: directions point away from the surface, eta is the
+// relative index of refraction (inside / outside) and a negative cosine means "arriving from
+// inside".
 #pragma once
 
 #include "src/core/math.h"
 
 namespace pt {
+
+// One sampled direction. f excludes the cosine; pdf is per unit solid angle for non-delta
+// lobes and the discrete probability of the lobe for a delta one, so that f |cos wi| / pdf is
+// always the path weight.
+struct BsdfSample {
+  vec3 f = vec3(0.0f);
+  vec3 wi = vec3(0.0f);
+  float pdf = 0.0f;
+  bool isDelta = false;
+  bool isTransmission = false;
+  float eta = 1.0f;  // relative index crossed (pbrt's etap): 1 for reflection
+};
+
+PT_HDI float AbsCosTheta(vec3 w) { return fabsf(w.z); }
+PT_HDI bool SameHemisphere(vec3 a, vec3 b) { return a.z * b.z > 0.0f; }
+// Mirror image in the tangent plane: two-sided lobes evaluate the back face as the front.
+PT_HDI vec3 FlipZ(vec3 w) { return vec3(w.x, w.y, -w.z); }
 
 // Mirror image of wo about the unit normal n (both pointing away from the surface).
 PT_HDI vec3 Reflect(vec3 wo, vec3 n) { return -wo + 2.0f * glm::dot(wo, n) * n; }
@@ -54,6 +73,34 @@ PT_HDI bool Refract(vec3 wi, vec3 n, float eta, float* etap, vec3* wt) {
   *wt = -wi / eta + (cosThetaI / eta - cosThetaT) * n;
   if (etap) *etap = eta;
   return true;
+}
+
+// Fdr for a relative index n >= 1: the closed form of 2 * integral of F(mu) mu dmu (as in
+// d'Eon's "A Hitchhiker's Guide to Multiple Scattering"), accurate to ~3e-6 in float for
+// n >= 1.05. Closer to 1 its terms cancel, so d'Eon and Irving's fit (used by Mitsuba) takes
+// over there; its absolute error is below 2e-4 where Fdr itself is below 0.014.
+PT_HDI float FresnelDiffuseReflectanceAbove1(float n) {
+  if (n < 1.05f) {
+    float x = 1.0f / n;
+    return 0.919317f +
+           x * (-3.4793f + x * (6.75335f + x * (-7.80989f + x * (4.98554f + x * -1.36881f))));
+  }
+  float n2 = n * n, n4 = n2 * n2;
+  float a = (n - 1.0f) * (3.0f * n + 1.0f) / (6.0f * Sqr(n + 1.0f));
+  float b = n2 * Sqr(n2 - 1.0f) / (n2 + 1.0f) / Sqr(n2 + 1.0f) * logf((n - 1.0f) / (n + 1.0f));
+  float c = 2.0f * n * n2 * (n2 + 2.0f * n - 1.0f) / ((n2 + 1.0f) * (n4 - 1.0f));
+  float d = 8.0f * n4 * (n4 + 1.0f) / ((n2 + 1.0f) * Sqr(n4 - 1.0f)) * logf(n);
+  return 0.5f + a + b - c + d;
+}
+
+// Diffuse Fresnel reflectance "Fdr" (Mitsuba's fresnel_diffuse_reflectance): the fraction of
+// uniform (cosine-weighted) illumination that a smooth interface of relative index eta
+// reflects. For eta < 1 (from the denser side) it follows from eta > 1 by reciprocity of the
+// transmitted fraction, 1 - Fdr(eta) = eta^2 (1 - Fdr(1 / eta)), exactly; so a layer that
+// weights its inside by 1 / (1 - Fdr(1 / eta)) conserves energy by construction.
+PT_HDI float FresnelDiffuseReflectance(float eta) {
+  if (eta >= 1.0f) return FresnelDiffuseReflectanceAbove1(eta);
+  return 1.0f - eta * eta * (1.0f - FresnelDiffuseReflectanceAbove1(1.0f / eta));
 }
 
 }  // namespace pt

@@ -22,18 +22,29 @@ PT_HDI int WrapTexel(int i, int size, TextureWrap wrap) {
   }
 }
 
-// Bilinear lookup at texture coordinates uv (glTF: u right, v down, texel centres at +0.5).
+// A continuous texel coordinate brought into a small range that selects the same texels and
+// weights: exact remainders (fmodf) by the wrap's period, so any finite coordinate converts to
+// int without overflow. Clamping to [-1, size] changes nothing either: past the edges both
+// taps read the edge texel. A NaN or infinite coordinate reads as 0.
+PT_HDI float ReduceTexelCoordinate(float x, int size, TextureWrap wrap) {
+  if (!(fabsf(x) <= 3.0e38f)) return 0.0f;
+  float s = float(size);
+  if (wrap == TextureWrap::kClampToEdge) return fminf(fmaxf(x, -1.0f), s);
+  float period = wrap == TextureWrap::kMirroredRepeat ? 2.0f * s : s;
+  float r = fmodf(x, period);  // exact, |r| < period, sign of x
+  return r < 0.0f ? r + period : r;
+}
+
+// Bilinear lookup at texture coordinates uv (glTF: u right, v down from the image's first row,
+// texel centres at +0.5), wrap modes per axis.
 PT_HDI vec3 SampleTexture(const SceneView& s, int32_t textureIndex, vec2 uv) {
   const Texture& t = s.textures[textureIndex];
-  float x = uv.x * float(t.width) - 0.5f;
-  float y = uv.y * float(t.height) - 0.5f;
-  // Reduce large coordinates first so float precision survives repeat wrapping.
-  x -= floorf(x / float(t.width)) * float(t.width) * (t.wrapS == TextureWrap::kRepeat);
-  y -= floorf(y / float(t.height)) * float(t.height) * (t.wrapT == TextureWrap::kRepeat);
+  int w = int(t.width), h = int(t.height);
+  float x = ReduceTexelCoordinate(uv.x * float(w) - 0.5f, w, t.wrapS);
+  float y = ReduceTexelCoordinate(uv.y * float(h) - 0.5f, h, t.wrapT);
   float fx = floorf(x), fy = floorf(y);
   float ax = x - fx, ay = y - fy;
   int x0 = int(fx), y0 = int(fy);
-  int w = int(t.width), h = int(t.height);
   int xs[2] = {WrapTexel(x0, w, t.wrapS), WrapTexel(x0 + 1, w, t.wrapS)};
   int ys[2] = {WrapTexel(y0, h, t.wrapT), WrapTexel(y0 + 1, h, t.wrapT)};
   const vec3* texels = s.texels + t.offset;

@@ -1,0 +1,198 @@
+// Textures: the software lookup (wrap modes, bilinear weights), the sRGB decode, and an
+// end-to-end render of a textured glTF square under a uniform white environment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <vector>
+
+#include "src/geometry/shapes.h"
+#include "src/io/gltf_loader.h"
+#include "src/materials/texture.h"
+#include "tests/render_test_util.h"
+#include "tests/test_util.h"
+#include "tests/texture_test_util.h"
+
+namespace pt {
+namespace {
+
+// A 4 x 2 texture whose texel (x, y) holds (x, y, 1): every tap is identifiable.
+struct TinyTexture {
+  std::vector<Texture> textures;
+  std::vector<vec3> texels;
+  SceneView view;
+
+  explicit TinyTexture(TextureWrap wrapS, TextureWrap wrapT = TextureWrap::kRepeat) {
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 4; ++x) texels.push_back(vec3(float(x), float(y), 1.0f));
+    Texture t;
+    t.width = 4;
+    t.height = 2;
+    t.wrapS = wrapS;
+    t.wrapT = wrapT;
+    textures.push_back(t);
+    view.textures = textures.data();
+    view.texels = texels.data();
+  }
+  // The texel coordinate x (column, continuous; centres at integers) on row 0, as u.
+  vec3 AtColumn(float x) const { return SampleTexture(view, 0, vec2((x + 0.5f) / 4.0f, 0.25f)); }
+};
+
+void ExpectVec(vec3 got, vec3 want, const char* what) {
+  EXPECT_NEAR(got.x, want.x, 1e-6f) << what;
+  EXPECT_NEAR(got.y, want.y, 1e-6f) << what;
+  EXPECT_NEAR(got.z, want.z, 1e-6f) << what;
+}
+
+TEST(TextureSample, TexelCentresAndBilinearWeights) {
+  TinyTexture t(TextureWrap::kClampToEdge, TextureWrap::kClampToEdge);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      vec2 uv((x + 0.5f) / 4.0f, (y + 0.5f) / 2.0f);  // v runs down the image's rows
+      ExpectVec(SampleTexture(t.view, 0, uv), vec3(x, y, 1), "texel centre");
+    }
+  // A quarter of a texel right of column 1 and down from row 0: weights 3/4, 1/4 on each axis.
+  vec3 v = SampleTexture(t.view, 0, vec2((1.25f + 0.5f) / 4.0f, (0.25f + 0.5f) / 2.0f));
+  ExpectVec(v, vec3(0.75f * 1 + 0.25f * 2, 0.75f * 0 + 0.25f * 1, 1), "bilinear");
+  ExpectVec(t.AtColumn(2.5f), vec3(2.5f, 0, 1), "halfway");
+}
+
+TEST(TextureSample, RepeatWrapsAroundBothEdges) {
+  TinyTexture t(TextureWrap::kRepeat);
+  ExpectVec(t.AtColumn(-0.5f), vec3(0.5f * 3 + 0.5f * 0, 0, 1), "u = 0 blends the last and first");
+  ExpectVec(t.AtColumn(3.25f), vec3(0.75f * 3 + 0.25f * 0, 0, 1), "past the right edge");
+  ExpectVec(t.AtColumn(1.0f + 4.0f * 7), vec3(1, 0, 1), "seven periods on");
+  ExpectVec(t.AtColumn(1.0f - 4.0f * 3), vec3(1, 0, 1), "three periods back");
+  ExpectVec(SampleTexture(t.view, 0, vec2(1.0e6f + 0.125f, 0.25f)), vec3(0, 0, 1), "u = 1e6 + 1/8");
+  // Rows: v = 0 sits between row 0 and row 1 (repeat), at half weight each.
+  ExpectVec(SampleTexture(t.view, 0, vec2(0.125f, 0.0f)), vec3(0, 0.5f, 1), "v = 0");
+}
+
+TEST(TextureSample, ClampHoldsTheEdgeTexels) {
+  TinyTexture t(TextureWrap::kClampToEdge);
+  ExpectVec(t.AtColumn(-0.5f), vec3(0, 0, 1), "u = 0");
+  ExpectVec(t.AtColumn(-40.0f), vec3(0, 0, 1), "far left");
+  ExpectVec(t.AtColumn(3.5f), vec3(3, 0, 1), "u = 1");
+  ExpectVec(t.AtColumn(1.0e9f), vec3(3, 0, 1), "far right");
+  ExpectVec(t.AtColumn(2.75f), vec3(2.75f, 0, 1), "inside still bilinear");
+}
+
+TEST(TextureSample, MirroredRepeatReflectsEachPeriod) {
+  TinyTexture t(TextureWrap::kMirroredRepeat);
+  // Columns continue 3, 2, 1, 0 past the right edge and 0, 1, 2 past the left, period 8.
+  ExpectVec(t.AtColumn(4.0f), vec3(3, 0, 1), "first mirrored column");
+  ExpectVec(t.AtColumn(5.0f), vec3(2, 0, 1), "second mirrored column");
+  ExpectVec(t.AtColumn(3.5f), vec3(3, 0, 1), "u = 1: column 3 twice");
+  ExpectVec(t.AtColumn(4.5f), vec3(2.5f, 0, 1), "between mirrored columns");
+  ExpectVec(t.AtColumn(-1.0f), vec3(0, 0, 1), "left of u = 0");
+  ExpectVec(t.AtColumn(-2.0f), vec3(1, 0, 1), "two left of u = 0");
+  ExpectVec(t.AtColumn(1.0f + 8.0f * 5), vec3(1, 0, 1), "five periods on");
+  ExpectVec(t.AtColumn(6.0f - 8.0f * 2), vec3(1, 0, 1), "column 6 mirrors to 1, two periods back");
+}
+
+TEST(TextureSample, NonFiniteCoordinatesStayFinite) {
+  for (TextureWrap w : {TextureWrap::kRepeat, TextureWrap::kClampToEdge, TextureWrap::kMirroredRepeat}) {
+    TinyTexture t(w, w);
+    for (float bad : {NAN, INFINITY, -INFINITY, 3.0e38f}) {
+      vec3 v = SampleTexture(t.view, 0, vec2(bad, bad));
+      EXPECT_TRUE(IsFinite(v)) << "wrap " << int(w) << " coordinate " << bad;
+    }
+  }
+}
+
+TEST(TextureSample, ResolveMaterialMultipliesTheFactor) {
+  TinyTexture t(TextureWrap::kClampToEdge);
+  Material m;
+  m.albedo = vec3(0.5f, 0.25f, 1.0f);
+  m.baseColorTexture = 0;
+  Material plain = m;
+  plain.baseColorTexture = -1;
+  std::vector<Material> materials = {m, plain};
+  t.view.materials = materials.data();
+  SurfaceInteraction si;
+  si.material = 0;
+  si.texUv = vec2(2.5f / 4.0f, 1.5f / 2.0f);  // texel (2, 1)
+  ExpectVec(ResolveMaterial(t.view, si).albedo, vec3(0.5f * 2, 0.25f * 1, 1.0f), "textured");
+  si.material = 1;
+  ExpectVec(ResolveMaterial(t.view, si).albedo, plain.albedo, "untextured");
+}
+
+TEST(Srgb, DecodeIsTheExactEotf) {
+  EXPECT_EQ(SrgbToLinear(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(SrgbToLinear(1.0), 1.0);
+  EXPECT_DOUBLE_EQ(SrgbToLinear(0.04045), 0.04045 / 12.92);  // the linear segment's end
+  EXPECT_NEAR(SrgbToLinear(0.5), 0.214041140482232, 1e-15);
+  EXPECT_NEAR(SrgbToLinear(0.04046), std::pow(0.09546 / 1.055, 2.4), 1e-17);
+  // The two pieces meet (to 1e-7 relative: the standard's rounded constants).
+  EXPECT_NEAR(SrgbToLinear(0.0404500001) / SrgbToLinear(0.04045), 1.0, 1e-7);
+  EXPECT_EQ(Srgb8ToLinear(0), 0.0f);
+  EXPECT_EQ(Srgb8ToLinear(255), 1.0f);
+  EXPECT_EQ(Srgb8ToLinear(10), float(10.0 / 255.0 / 12.92));  // 0.0392: the linear piece
+  EXPECT_EQ(Srgb8ToLinear(11), float(std::pow((11.0 / 255.0 + 0.055) / 1.055, 2.4)));
+  EXPECT_NEAR(Srgb8ToLinear(128), 0.2158605, 1e-7);
+  EXPECT_NEAR(Srgb8ToLinear(188), 0.5028865, 1e-7);
+  for (int c = 1; c < 256; ++c) {
+    ASSERT_GT(Srgb8ToLinear(uint8_t(c)), Srgb8ToLinear(uint8_t(c - 1))) << c;
+    ASSERT_EQ(Srgb8ToLinear(uint8_t(c)), float(SrgbToLinear(c / 255.0))) << c;
+  }
+}
+
+// z with P(|Z| > z) = p, by bisection on erfc.
+double TwoSidedNormalQuantile(double p) {
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// A square of side 2 at z = 0 facing +z, textured with a 2 x 2 checker of 8 x 8 texels (so
+// bilinear blending stays within half a texel of the block edges), fills a 64 x 64 image
+// exactly; the environment is uniform white (radiance 1) and the material diffuse with albedo
+// factor 1. A Lambertian surface under a uniform environment reflects albedo x 1, so every
+// quadrant's pixels must average to its block's linear colour.
+TEST(TextureRender, CheckerQuadrantsShowTheirTexelColours) {
+  const uint8_t blocks[4][3] = {{255, 128, 0}, {0, 255, 64}, {64, 0, 255}, {200, 200, 200}};
+  test::RgbaImage png(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const uint8_t* c = blocks[(y / 4) * 2 + x / 4];  // TL, TR, BL, BR
+      png.Set(x, y, c[0], c[1], c[2], 255);
+    }
+  std::string dir = test::TempDir();
+  test::WriteTexturedSquareGltf(dir, png, 33071, 33071);  // CLAMP_TO_EDGE both ways
+  const int size = 64;
+  const double distance = 4.0, fov = 2.0 * std::atan(1.0 / distance) * 180.0 / M_PI;
+  std::string json = R"({"render": {"width": 64, "height": 64, "spp": 64, "max_depth": 2, "seed": 7},
+      "camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov_y": )" +
+      std::to_string(fov) + R"(}, "background": [1, 1, 1], "materials": {},
+      "objects": [{"type": "mesh", "file": "square.gltf"}]})";
+  SceneDesc desc = LoadSceneFromString(json, "checker.json", dir);
+  ASSERT_EQ(desc.materials.size(), 1u);
+  ASSERT_GE(desc.materials[0].baseColorTexture, 0);
+  desc.materials[0].type = MaterialType::kDiffuse;  // glTF maps to plastic; this test wants Lambert
+  desc.materials[0].albedo = vec3(1.0f);
+  Scene scene = BuildScene(std::move(desc));
+  RenderResult result = test::RenderOnCpu(scene);
+  const FilmImage& img = result.image;
+  ASSERT_EQ(img.width, size);
+
+  // 12 comparisons (4 quadrants x 3 channels), each at false-alarm probability 1e-4 / 12: the
+  // test fails by chance with probability <= 1e-4 (Bonferroni). Windows keep 2 pixels off the
+  // image edge and 5 off the centre lines (the blend zone is 2 pixels wide on each side).
+  const double z = TwoSidedNormalQuantile(1e-4 / 12.0);
+  const int lo[2] = {2, size / 2 + 5}, hi[2] = {size / 2 - 5, size - 2};
+  for (int q = 0; q < 4; ++q) {
+    int qx = q % 2, qy = q / 2;
+    for (int c = 0; c < 3; ++c) {
+      test::WindowMean w = test::MeanOverWindow(img, c, lo[qx], lo[qy], hi[qx], hi[qy]);
+      double expected = Srgb8ToLinear(blocks[q][c]);
+      double tolerance = z * std::sqrt(w.varianceOfMean) + 1e-6;  // + float accumulation
+      EXPECT_NEAR(w.mean, expected, tolerance) << "quadrant " << q << " channel " << c;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pt
