@@ -195,34 +195,35 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
 const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
   static const std::vector<std::pair<std::string, Handler>> table = {
       {"--adaptive",
-       [](CliOptions&, ValueSource& s) {
-         std::string text = ParseChoice<std::string>(s, {{"on", "on"}, {"off", "off"}});
-         NotBuilt("--adaptive " + text + ": adaptive sampling");
+       [](CliOptions& o, ValueSource& s) {
+         o.adaptive = ParseChoice<Toggle>(s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}});
        }},
-      {"--spp-map",
-       [](CliOptions&, ValueSource& s) {
-         TakePath(s);
-         NotBuilt("--spp-map");
-       }},
+      {"--spp-map", [](CliOptions& o, ValueSource& s) { o.sppMapPath = TakePath(s); }},
       {"--light-paths",
-       [](CliOptions&, ValueSource& s) {
-         std::string text = ParseChoice<std::string>(
-             s, {{"all", "all"}, {"direct", "direct"}, {"indirect", "indirect"}});
-         NotBuilt("--light-paths " + text);
+       [](CliOptions& o, ValueSource& s) {
+         o.lightPaths = ParseChoice<LightPaths>(s, {{"all", LightPaths::kAll},
+                                                    {"direct", LightPaths::kDirect},
+                                                    {"indirect", LightPaths::kIndirect}});
        }},
       {"--tri-test", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "watertight", {"mt"}); }},
-      {"--film", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "float", {"double"}); }},
+      {"--film",
+       [](CliOptions& o, ValueSource& s) {
+         o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
+       }},
       {"--specialize", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "on", {"off"}); }},
       {"--ray-offset",
-       [](CliOptions&, ValueSource& s) {
+       [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
-         if (text == "robust") return;
+         if (text == "robust") {
+           o.rayOffsetEpsilon = 0.0f;
+           return;
+         }
          char* end = nullptr;
          double eps = std::strtod(text.c_str(), &end);
-         if (text.empty() || *end != '\0' || !(eps > 0.0) || !std::isfinite(eps)) {
+         if (text.empty() || *end != '\0' || !(eps > 0.0) || !std::isfinite(eps) || eps > 1e30) {
            throw CliError("bad value for --ray-offset: '" + text + "' (expected robust|EPS)");
          }
-         NotBuilt("--ray-offset EPS (a fixed epsilon)");
+         o.rayOffsetEpsilon = float(eps);
        }},
   };
   return table;

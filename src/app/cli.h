@@ -37,6 +37,13 @@ struct CliOptions {
   double timeLimitSeconds = 0.0;     // 0 = none
   double previewEverySeconds = 0.0;  // 0 = none
   std::optional<CropWindow> crop;
+  std::string sppMapPath;  // --spp-map, empty = none
+  Toggle adaptive = Toggle::kAuto;  // kAuto: the scene's setting
+  LightPaths lightPaths = LightPaths::kAll;
+  float rayOffsetEpsilon = 0.0f;    // 0 = robust
+  bool filmDouble = false;
+  bool specialize = true;
+  TriangleTest triangleTest = TriangleTest::kWatertight;
 
   bool quiet = false;
   bool help = false;

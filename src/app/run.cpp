@@ -51,7 +51,8 @@ double MsSince(Clock::time_point start) {
 }
 
 void CheckOutputsWritable(const CliOptions& cli) {
-  for (const std::string* path : {&cli.outputPath, &cli.hdrPath, &cli.statsJsonPath}) {
+  for (const std::string* path :
+       {&cli.outputPath, &cli.hdrPath, &cli.statsJsonPath, &cli.sppMapPath}) {
     std::string why;
     if (!path->empty() && !CheckWritable(*path, &why)) {
       throw AppFailure{kExitRuntimeFailure, "cannot write " + *path + ": " + why};
@@ -142,6 +143,7 @@ BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
 void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
   WriteImage(cli.outputPath, image, false);
   if (!cli.hdrPath.empty()) WriteImage(cli.hdrPath, image, true);
+  if (!cli.sppMapPath.empty()) WriteSppMap(cli.sppMapPath, image);
 }
 
 RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
@@ -156,6 +158,14 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.timeLimitSeconds = cli.timeLimitSeconds;
   options.previewEverySeconds = cli.previewEverySeconds;
   options.reference = reference;
+  options.adaptive = cli.adaptive;
+  options.lightPaths = cli.lightPaths;
+  options.rayOffsetEpsilon = cli.rayOffsetEpsilon;
+  options.filmDouble = cli.filmDouble;
+  options.specialize = cli.specialize;
+  options.triangleTest = cli.triangleTest;
+  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
+  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
   return options;
 }
 

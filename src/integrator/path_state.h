@@ -37,7 +37,14 @@ struct PathState {
   vec3* shadowDir;
   float* shadowTMax;
   vec3* shadowRadiance;  // what the shadow ray adds to radiance if unoccluded
+  // First-hit features for denoisers; null unless feature buffers were requested.
+  vec3* featureAlbedo;
+  vec3* featureNormal;
+  float* featureDepth;
 };
+
+// Bytes per path of the optional feature buffers.
+constexpr size_t kFeatureBytes = 2 * sizeof(vec3) + sizeof(float);
 
 // Bytes per path of the arrays above plus the queue and sort key (one uint32 each).
 constexpr size_t kPathStateBytes = 4 * sizeof(vec3) + sizeof(float) + sizeof(uint32_t) +

@@ -16,6 +16,8 @@ enum class BackendKind { kAuto, kCpu, kCuda };
 enum class Toggle { kAuto, kOff, kOn };
 enum class SortMode { kAuto, kOff, kMaterial };
 enum class IntegratorMode { kMis, kBsdf, kNee };
+enum class LightPaths { kAll, kDirect, kIndirect };
+enum class TriangleTest { kWatertight, kMollerTrumbore };
 
 struct CropWindow {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1); empty = whole image
@@ -33,6 +35,13 @@ struct RenderOptions {
   double previewEverySeconds = 0.0;  // <= 0: none
   const std::vector<float>* reference = nullptr;  // linear RGB of the crop/image size, or null
   size_t maxPathsInFlight = 0;       // 0: the backend's default
+  LightPaths lightPaths = LightPaths::kAll;
+  float rayOffsetEpsilon = 0.0f;     // > 0: a fixed offset instead of error bounds (a study)
+  bool filmDouble = false;           // accumulate in double precision
+  Toggle adaptive = Toggle::kAuto;   // kAuto: the scene's render.adaptive
+  bool specialize = true;            // stage variants specialised to the scene's effects
+  TriangleTest triangleTest = TriangleTest::kWatertight;
+  bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -41,6 +50,8 @@ struct FilmImage {
   std::vector<float> rgb;       // mean, 3 floats per pixel, rows top to bottom
   std::vector<float> variance;  // per-channel sample variance, 3 floats per pixel
   std::vector<uint32_t> samples;
+  // First-hit feature buffers, averaged over samples (only when requested).
+  std::vector<float> albedo, normal, depth;  // 3, 3 and 1 floats per pixel
 };
 
 struct StageTimes {
@@ -62,6 +73,7 @@ struct RenderStats {
   bool interrupted = false;
   bool compactUsed = false;
   bool sortUsed = false;
+  std::string specialization;  // the stage variant that ran
   std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
 };
 

@@ -4,6 +4,28 @@
 
 namespace pt {
 
+void AppendWaves(const WaveInfo& base, const uint32_t* pixelList, uint32_t pixelCount,
+                 uint32_t sampleStart, uint32_t sampleCount, size_t maxPaths,
+                 std::vector<WaveInfo>& waves) {
+  maxPaths = std::max<size_t>(maxPaths, 1);
+  uint32_t tile = uint32_t(std::min<size_t>(pixelCount, maxPaths));
+  uint32_t samplesPerWave = 1;
+  if (tile == pixelCount)
+    samplesPerWave = uint32_t(std::clamp<size_t>(maxPaths / pixelCount, 1, sampleCount));
+  uint32_t end = sampleStart + sampleCount;
+  for (uint32_t s = sampleStart; s < end; s += samplesPerWave) {
+    for (uint32_t p = 0; p < pixelCount; p += tile) {
+      WaveInfo w = base;
+      w.pixelList = pixelList ? pixelList + p : nullptr;
+      w.pixelStart = pixelList ? 0 : p;
+      w.pixelCount = std::min(tile, pixelCount - p);
+      w.sampleStart = s;
+      w.samplesInWave = std::min(samplesPerWave, end - s);
+      waves.push_back(w);
+    }
+  }
+}
+
 WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
                       size_t defaultPathsInFlight, size_t requestedPathsInFlight) {
   WavePlan plan;
@@ -14,55 +36,48 @@ WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
   plan.cropHeight = uint32_t(c.y1 - c.y0);
   plan.cropPixels = plan.cropWidth * plan.cropHeight;
   plan.spp = uint32_t(render.spp);
+  plan.maxPaths = requestedPathsInFlight ? requestedPathsInFlight : defaultPathsInFlight;
 
-  size_t maxPaths = requestedPathsInFlight ? requestedPathsInFlight : defaultPathsInFlight;
-  maxPaths = std::max<size_t>(maxPaths, 1);
-  uint32_t tile = uint32_t(std::min<size_t>(plan.cropPixels, maxPaths));
-  uint32_t samplesPerWave = 1;
-  if (tile == plan.cropPixels)
-    samplesPerWave = uint32_t(std::clamp<size_t>(maxPaths / plan.cropPixels, 1, plan.spp));
-
-  WaveInfo base{};
+  WaveInfo& base = plan.base;
+  base = WaveInfo{};
   base.cropX0 = plan.cropX0;
   base.cropY0 = plan.cropY0;
   base.cropWidth = plan.cropWidth;
   base.imageWidth = uint32_t(render.width);
   base.imageHeight = uint32_t(render.height);
   base.seed = render.seed;
-  for (uint32_t s = 0; s < plan.spp; s += samplesPerWave) {
-    for (uint32_t p = 0; p < plan.cropPixels; p += tile) {
-      WaveInfo w = base;
-      w.pixelStart = p;
-      w.pixelCount = std::min(tile, plan.cropPixels - p);
-      w.sampleStart = s;
-      w.samplesInWave = std::min(samplesPerWave, plan.spp - s);
-      plan.pathCapacity = std::max(plan.pathCapacity, w.PathCount());
-      plan.waves.push_back(w);
-    }
-  }
+  AppendWaves(base, nullptr, plan.cropPixels, 0, plan.spp, plan.maxPaths, plan.waves);
+  for (const WaveInfo& w : plan.waves) plan.pathCapacity = std::max(plan.pathCapacity, w.PathCount());
   return plan;
 }
 
-FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const std::vector<vec3>& sum,
-                           const std::vector<vec3>& sumSquares,
-                           const std::vector<uint32_t>& count) {
+FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const FilmData& film) {
   FilmImage img;
   img.width = int(width);
   img.height = int(height);
   size_t n = size_t(width) * height;
   img.rgb.assign(3 * n, 0.0f);
   img.variance.assign(3 * n, 0.0f);
-  img.samples = count;
+  img.samples = film.count;
+  bool features = !film.albedoSum.empty();
+  if (features) {
+    img.albedo.assign(3 * n, 0.0f);
+    img.normal.assign(3 * n, 0.0f);
+    img.depth.assign(n, 0.0f);
+  }
   for (size_t i = 0; i < n; ++i) {
-    if (count[i] == 0) continue;
-    double k = count[i];
+    double k = film.count[i];
+    if (k == 0) continue;
     for (int c = 0; c < 3; ++c) {
-      double mean = sum[i][c] / k;
-      img.rgb[3 * i + c] = float(mean);
+      img.rgb[3 * i + c] = float(film.mean[i][c]);
       // Unbiased sample variance of the pixel's samples.
-      double var = k > 1 ? (sumSquares[i][c] - k * mean * mean) / (k - 1) : 0.0;
-      img.variance[3 * i + c] = float(std::max(0.0, var));
+      img.variance[3 * i + c] = k > 1 ? float(std::max(0.0, film.m2[i][c] / (k - 1))) : 0.0f;
+      if (features) {
+        img.albedo[3 * i + c] = float(film.albedoSum[i][c] / k);
+        img.normal[3 * i + c] = float(film.normalSum[i][c] / k);
+      }
     }
+    if (features) img.depth[i] = float(film.depthSum[i] / k);
   }
   return img;
 }

@@ -12,6 +12,8 @@ struct WavePlan {
   uint32_t cropX0 = 0, cropY0 = 0, cropWidth = 0, cropHeight = 0, cropPixels = 0;
   uint32_t spp = 0;
   uint32_t pathCapacity = 0;  // slots to allocate: the largest wave
+  size_t maxPaths = 0;
+  WaveInfo base{};            // what every wave shares (crop, image size, seed)
   std::vector<WaveInfo> waves;
 };
 
@@ -20,8 +22,20 @@ struct WavePlan {
 WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
                       size_t defaultPathsInFlight, size_t requestedPathsInFlight);
 
-FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const std::vector<vec3>& sum,
-                           const std::vector<vec3>& sumSquares,
-                           const std::vector<uint32_t>& count);
+// Waves giving `sampleCount` samples from `sampleStart` on to `pixelCount` pixels (the first
+// pixelCount entries of pixelList, or a contiguous range from 0 when it is null), at most
+// maxPaths paths each, every pixel's samples in increasing order.
+void AppendWaves(const WaveInfo& base, const uint32_t* pixelList, uint32_t pixelCount,
+                 uint32_t sampleStart, uint32_t sampleCount, size_t maxPaths,
+                 std::vector<WaveInfo>& waves);
+
+// The film as an image. Feature sums may be empty (not requested).
+struct FilmData {
+  std::vector<glm::dvec3> mean, m2;
+  std::vector<uint32_t> count;
+  std::vector<vec3> albedoSum, normalSum;
+  std::vector<float> depthSum;
+};
+FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const FilmData& film);
 
 }  // namespace pt

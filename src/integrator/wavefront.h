@@ -44,16 +44,54 @@ class WavefrontIntegrator {
     Allocate();
     stats_.uploadMs = Ms(t0, Clock::now());
     renderStart_ = lastPreview_ = Clock::now();
-    uint64_t total = uint64_t(plan_.cropPixels) * uint64_t(plan_.spp), done = 0;
-    for (const WaveInfo& wave : plan_.waves) {
+    uint64_t done = adaptive_.enabled ? RenderAdaptive() : RenderWaves(plan_.waves, 0);
+    backend_.Synchronize();
+    stats_.renderMs = Ms(renderStart_, Clock::now());
+    return Finish(done);
+  }
+
+  // Runs waves until done or told to stop; returns the samples taken.
+  uint64_t RenderWaves(const std::vector<WaveInfo>& waves, uint64_t done) {
+    uint64_t total = uint64_t(plan_.cropPixels) * uint64_t(plan_.spp);
+    for (const WaveInfo& wave : waves) {
       if (StopRequested()) break;
       RunWave(wave);
       done += wave.PathCount();
       AfterWave(done, total);
     }
-    backend_.Synchronize();
-    stats_.renderMs = Ms(renderStart_, Clock::now());
-    return Finish(done);
+    return done;
+  }
+
+  // Adaptive sampling: batches of samples for the pixels still active; after each batch,
+  // once pixels have min_spp samples, those whose luminance error bound is under the
+  // tolerance leave the active list (compacted like the path queue), and take no more paths.
+  uint64_t RenderAdaptive() {
+    uint32_t active = plan_.cropPixels, batch = uint32_t(std::max(1, adaptive_.batch));
+    uint64_t done = 0;
+    for (uint32_t start = 0; start < plan_.spp && active > 0 && !stopped_;) {
+      uint32_t count = std::min(batch, plan_.spp - start);
+      std::vector<WaveInfo> waves;
+      AppendWaves(plan_.base, activePixels_.Data(), active, start, count, plan_.maxPaths, waves);
+      done = RenderWaves(waves, done);
+      start += count;
+      if (start >= uint32_t(adaptive_.minSpp)) active = RetireConverged(active);
+    }
+    return done;
+  }
+
+  // Keeps the pixels whose 95% error bound on mean luminance still exceeds the tolerance.
+  uint32_t RetireConverged(uint32_t active) {
+    const float* lumMean = film_.lumMean;
+    const float* lumM2 = film_.lumM2;
+    const uint32_t* count = film_.sampleCount;
+    float tolerance = adaptive_.tolerance;
+    return backend_.Partition(Stage::kCompact, activePixels_.Data(), active,
+                              [=] PT_HD(uint32_t p) {
+                                float n = float(count[p]);
+                                float variance = n > 1.0f ? lumM2[p] / (n - 1.0f) : 0.0f;
+                                float bound = 1.96f * sqrtf(variance / n);
+                                return bound > tolerance * fmaxf(lumMean[p], 1e-4f);
+                              });
   }
 
   // ---- One wave, bounce by bounce ----
@@ -73,6 +111,13 @@ class WavefrontIntegrator {
     }
     Accumulate(wave);
     backend_.Synchronize();
+  }
+
+  // Initialise: the active pixel list starts as every pixel of the crop window.
+  void ResetActivePixels() {
+    uint32_t* pixels = activePixels_.Data();
+    backend_.ParallelFor(Stage::kGenerate, plan_.cropPixels,
+                         [=] PT_HD(uint32_t i) { pixels[i] = i; });
   }
 
   // Generate: a camera ray per slot; the queue starts as every slot in order.
@@ -150,12 +195,24 @@ class WavefrontIntegrator {
 
   // The film as an image: mean and per-channel sample variance per pixel.
   FilmImage ResolveFilm() {
-    std::vector<vec3> sum, sumSquares;
-    std::vector<uint32_t> count;
-    filmSum_.Download(sum);
-    filmSumSquares_.Download(sumSquares);
-    filmCount_.Download(count);
-    return ResolveFilmImage(plan_.cropWidth, plan_.cropHeight, sum, sumSquares, count);
+    FilmData data;
+    if (options_.filmDouble) {
+      filmMeanDouble_.Download(data.mean);
+      filmM2Double_.Download(data.m2);
+    } else {
+      std::vector<vec3> mean, m2;
+      filmMean_.Download(mean);
+      filmM2_.Download(m2);
+      data.mean.assign(mean.begin(), mean.end());
+      data.m2.assign(m2.begin(), m2.end());
+    }
+    filmCount_.Download(data.count);
+    if (params_.featureBuffers) {
+      filmAlbedo_.Download(data.albedoSum);
+      filmNormal_.Download(data.normalSum);
+      filmDepth_.Download(data.depthSum);
+    }
+    return ResolveFilmImage(plan_.cropWidth, plan_.cropHeight, data);
   }
 
  private:
@@ -165,6 +222,8 @@ class WavefrontIntegrator {
   }
 
   void Allocate();
+  void AllocatePaths(size_t n);
+  void AllocateFilm(size_t pixels);
   bool StopRequested();
   void AfterWave(uint64_t done, uint64_t total);
   RenderResult Finish(uint64_t samplesDone);
@@ -183,10 +242,16 @@ class WavefrontIntegrator {
   Buffer<float> prevPdf_, shadowTMax_;
   Buffer<uint32_t> flags_, queue_, sortKeys_;
   Buffer<HitRecord> hit_;
+  Buffer<vec3> featureAlbedo_, featureNormal_;
+  Buffer<float> featureDepth_;
   PathState pathState_{};
-  Buffer<vec3> filmSum_, filmSumSquares_;
-  Buffer<uint32_t> filmCount_;
+  Buffer<vec3> filmMean_, filmM2_, filmAlbedo_, filmNormal_;
+  Buffer<glm::dvec3> filmMeanDouble_, filmM2Double_;
+  Buffer<float> filmLumMean_, filmLumM2_, filmDepth_;
+  Buffer<uint32_t> filmCount_, activePixels_;
   FilmView film_{};
+  AdaptiveSettings adaptive_;
+  bool stopped_ = false;
   Buffer<Counter> counters_;
 
   RenderStats stats_;

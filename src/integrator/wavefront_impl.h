@@ -3,17 +3,39 @@
 
 namespace pt {
 
+// What the options ask of the stages.
+inline IntegratorParams MakeParams(const RenderSettings& r, const RenderOptions& o) {
+  IntegratorParams p{};
+  p.maxDepth = r.maxDepth;
+  p.rrDepth = r.russianRouletteDepth;
+  p.kind = o.integrator == IntegratorMode::kBsdf  ? IntegratorKind::kBsdf
+           : o.integrator == IntegratorMode::kNee ? IntegratorKind::kNee
+                                                  : IntegratorKind::kMis;
+  p.minBounces = o.lightPaths == LightPaths::kIndirect ? 2u : 0u;
+  p.maxBounces = o.lightPaths == LightPaths::kDirect ? 1u : 0xffffffffu;
+  // Direct light needs no path past its first bounce.
+  if (o.lightPaths == LightPaths::kDirect) p.maxDepth = std::min(p.maxDepth, 1);
+  p.rayOffsetEpsilon = o.rayOffsetEpsilon;
+  p.featureBuffers = o.featureBuffers ? 1u : 0u;
+  return p;
+}
+
 template <typename Backend>
 void WavefrontIntegrator<Backend>::Allocate() {
-  const RenderSettings& r = scene_.desc.render;
-  params_.maxDepth = r.maxDepth;
-  params_.rrDepth = r.russianRouletteDepth;
-  params_.kind = options_.integrator == IntegratorMode::kBsdf  ? IntegratorKind::kBsdf
-                 : options_.integrator == IntegratorMode::kNee ? IntegratorKind::kNee
-                                                               : IntegratorKind::kMis;
+  params_ = MakeParams(scene_.desc.render, options_);
+  adaptive_ = scene_.desc.render.adaptive;
+  if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
+  AllocatePaths(plan_.pathCapacity);
+  AllocateFilm(plan_.cropPixels);
+  counters_.Resize(kCounterCount);
+  counters_.Zero();
+  stats_.compactUsed = compact_;
+  stats_.sortUsed = sort_;
+}
 
-  size_t n = plan_.pathCapacity;
+template <typename Backend>
+void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   for (Buffer<vec3>* b : {&rayOrigin_, &rayDir_, &throughput_, &radiance_, &shadowOrigin_,
                           &shadowDir_, &shadowRadiance_})
     b->Resize(n);
@@ -23,36 +45,57 @@ void WavefrontIntegrator<Backend>::Allocate() {
   queue_.Resize(n);
   sortKeys_.Resize(n);
   hit_.Resize(n);
-  pathState_ = PathState{rayOrigin_.Data(), rayDir_.Data(),      throughput_.Data(),
-                         radiance_.Data(),  prevPdf_.Data(),     flags_.Data(),
-                         hit_.Data(),       shadowOrigin_.Data(), shadowDir_.Data(),
-                         shadowTMax_.Data(), shadowRadiance_.Data()};
-
-  size_t pixels = plan_.cropPixels;
-  filmSum_.Resize(pixels);
-  filmSumSquares_.Resize(pixels);
-  filmCount_.Resize(pixels);
-  filmSum_.Zero();
-  filmSumSquares_.Zero();
-  filmCount_.Zero();
-  film_ = FilmView{filmSum_.Data(), filmSumSquares_.Data(), filmCount_.Data()};
-  counters_.Resize(kCounterCount);
-  counters_.Zero();
-
+  // Feature buffers exist only when asked for: a render without them pays nothing.
+  size_t features = params_.featureBuffers ? n : 0;
+  featureAlbedo_.Resize(features);
+  featureNormal_.Resize(features);
+  featureDepth_.Resize(features);
+  pathState_ = PathState{rayOrigin_.Data(),      rayDir_.Data(),        throughput_.Data(),
+                         radiance_.Data(),       prevPdf_.Data(),       flags_.Data(),
+                         hit_.Data(),            shadowOrigin_.Data(),  shadowDir_.Data(),
+                         shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
+                         featureNormal_.Data(),  featureDepth_.Data()};
   stats_.pathsInFlight = n;
-  stats_.pathStateBytesPerPath = kPathStateBytes + backend_.SortScratchBytesPerPath(sort_);
-  stats_.compactUsed = compact_;
-  stats_.sortUsed = sort_;
+  stats_.pathStateBytesPerPath = kPathStateBytes + backend_.SortScratchBytesPerPath(sort_) +
+                                 (params_.featureBuffers ? kFeatureBytes : 0);
+}
+
+template <typename Backend>
+void WavefrontIntegrator<Backend>::AllocateFilm(size_t pixels) {
+  bool dbl = options_.filmDouble;
+  filmMean_.Resize(dbl ? 0 : pixels);
+  filmM2_.Resize(dbl ? 0 : pixels);
+  filmMeanDouble_.Resize(dbl ? pixels : 0);
+  filmM2Double_.Resize(dbl ? pixels : 0);
+  size_t features = params_.featureBuffers ? pixels : 0;
+  filmAlbedo_.Resize(features);
+  filmNormal_.Resize(features);
+  filmDepth_.Resize(features);
+  filmLumMean_.Resize(pixels);
+  filmLumM2_.Resize(pixels);
+  filmCount_.Resize(pixels);
+  activePixels_.Resize(adaptive_.enabled ? pixels : 0);
+  for (auto* b : {&filmMean_, &filmM2_, &filmAlbedo_, &filmNormal_}) b->Zero();
+  filmMeanDouble_.Zero();
+  filmM2Double_.Zero();
+  for (auto* b : {&filmLumMean_, &filmLumM2_, &filmDepth_}) b->Zero();
+  filmCount_.Zero();
+  film_ = FilmView{filmMean_.Data(),    filmM2_.Data(),     filmMeanDouble_.Data(),
+                   filmM2Double_.Data(), filmLumMean_.Data(), filmLumM2_.Data(),
+                   filmCount_.Data(),   filmAlbedo_.Data(), filmNormal_.Data(),
+                   filmDepth_.Data()};
+  if (adaptive_.enabled) ResetActivePixels();
 }
 
 template <typename Backend>
 bool WavefrontIntegrator<Backend>::StopRequested() {
   if (callbacks_.shouldStop && callbacks_.shouldStop()) {
     stats_.interrupted = true;
-    return true;
+    return stopped_ = true;
   }
   double limit = options_.timeLimitSeconds;
-  return limit > 0.0 && Ms(renderStart_, Clock::now()) >= limit * 1000.0;
+  if (limit > 0.0 && Ms(renderStart_, Clock::now()) >= limit * 1000.0) stopped_ = true;
+  return stopped_;
 }
 
 template <typename Backend>

@@ -277,10 +277,13 @@ class GltfWalker {
     std::vector<vec3> normals = Attribute(p, "NORMAL", positions.size(), ReadVec3s);
     std::vector<vec2> uvs = Attribute(p, "TEXCOORD_0", positions.size(), ReadVec2s);
     uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(p.material);
-    if (uvs.empty() && !sink_.HasOverride() && materials_.Textured(p.material) && !warnedUvs_) {
-      sink_.Warn("a primitive without TEXCOORD_0 uses a textured material: the texture is read at "
-                 "(0, 0)");
+    if (uvs.empty() && !sink_.HasOverride() && materials_.Textured(p.material)) {
+      if (!warnedUvs_) {
+        sink_.Warn(materials_.DisplayName(p.material) + ": its texture is read at (0, 0) on a "
+                   "primitive without TEXCOORD_0");
+      }
       warnedUvs_ = true;
+      uvs.assign(positions.size(), vec2(0.0f));  // explicit zeros, not the barycentrics
     }
     std::vector<uint32_t> tri = TriangleIndices(model_, p, positions.size());
     for (size_t t = 0; t + 2 < tri.size(); t += 3) {

@@ -47,6 +47,8 @@ class GltfMaterialTable {
   uint32_t Index(int material);
   // Whether that material (already added by Index) has a base colour texture.
   bool Textured(int material) const;
+  // "material \"name\" (#3)" or "default material", for warnings.
+  std::string DisplayName(int material) const;
 
  private:
   int32_t BaseColorTexture(int texture, std::vector<std::string>& notes);

@@ -230,6 +230,11 @@ bool GltfMaterialTable::Textured(int material) const {
   return material < 0 ? textured_.back() : textured_.at(size_t(material));
 }
 
+std::string GltfMaterialTable::DisplayName(int material) const {
+  if (material < 0 || size_t(material) >= model_.materials.size()) return "default material";
+  return "material \"" + model_.materials[material].name + "\" (#" + std::to_string(material) + ")";
+}
+
 uint32_t GltfMaterialTable::Index(int index) {
   if (index >= int(model_.materials.size())) {
     throw std::runtime_error("material " + std::to_string(index) + " does not exist");
@@ -239,8 +244,7 @@ uint32_t GltfMaterialTable::Index(int index) {
   tinygltf::Material fallback;  // the glTF default: white, metallic 1, roughness 1
   fallback.emissiveFactor = {0.0, 0.0, 0.0};
   const tinygltf::Material& source = index < 0 ? fallback : model_.materials[index];
-  std::string name = index < 0 ? "default material"
-                               : "material \"" + source.name + "\" (#" + std::to_string(index) + ")";
+  std::string name = DisplayName(index);
   MappedGltfMaterial mapped = MapGltfMaterial(source);
   Material& m = mapped.material;
   bool usesAlbedo = m.type == MaterialType::kDiffuse || m.type == MaterialType::kConductor ||

@@ -130,6 +130,18 @@ std::string EncodeExr(const std::string& path, const FilmImage& image, bool with
       channels.push_back(PlanarFloat(std::string("variance.") + "RGB"[c], image.variance, c));
     }
   }
+  // First-hit feature buffers for denoisers (albedo, normal) and the hit distance as Z.
+  if (withExtras && image.albedo.size() == pixels * 3) {
+    for (int c = 0; c < 3; ++c) {
+      channels.push_back(PlanarFloat(std::string("albedo.") + "RGB"[c], image.albedo, c));
+      channels.push_back(PlanarFloat(std::string("normal.") + "XYZ"[c], image.normal, c));
+    }
+    ExrChannel z{"Z", TINYEXR_PIXELTYPE_FLOAT, std::vector<uint8_t>(pixels * 4)};
+    std::memcpy(z.data.data(), image.depth.data(), pixels * 4);
+    channels.push_back(std::move(z));
+  }
+  std::sort(channels.begin(), channels.end(),
+            [](const ExrChannel& a, const ExrChannel& b) { return a.name < b.name; });
   std::vector<EXRChannelInfo> infos(channels.size());
   std::vector<int> types(channels.size());
   std::vector<unsigned char*> planes(channels.size());
@@ -166,6 +178,38 @@ std::string EncodeExr(const std::string& path, const FilmImage& image, bool with
 }
 
 }  // namespace
+
+bool IsExrPath(const std::string& path) { return LowerExtension(path) == ".exr"; }
+
+// A heat map of samples per pixel: PNG through a perceptual ramp scaled to the largest count
+// (the legend is in the stats: spp_mean); EXR or PFM keep the raw counts as grey values.
+void WriteSppMap(const std::string& path, const FilmImage& image) {
+  FilmImage map = image;
+  size_t pixels = size_t(image.width) * image.height;
+  uint32_t most = 1;
+  for (uint32_t n : image.samples) most = std::max(most, n);
+  ImageFormat format;
+  bool png = ImageFormatFromPath(path, &format) && format == ImageFormat::kPng;
+  // Viridis at five stops, in linear RGB so the PNG encoder's sRGB curve restores them.
+  static const float kRamp[5][3] = {{0.267f, 0.005f, 0.329f}, {0.231f, 0.322f, 0.546f},
+                                    {0.128f, 0.567f, 0.551f}, {0.369f, 0.789f, 0.383f},
+                                    {0.993f, 0.906f, 0.144f}};
+  for (size_t i = 0; i < pixels; ++i) {
+    float t = float(image.samples[i]) / float(most);
+    for (int c = 0; c < 3; ++c) {
+      float v = float(image.samples[i]);
+      if (png) {
+        float x = t * 4.0f;
+        int k = std::min(3, int(x));
+        float srgb = kRamp[k][c] + (x - k) * (kRamp[k + 1][c] - kRamp[k][c]);
+        v = srgb <= 0.04045f ? srgb / 12.92f : std::pow((srgb + 0.055f) / 1.055f, 2.4f);
+      }
+      map.rgb[3 * i + c] = v;
+    }
+  }
+  map.albedo.clear();
+  WriteImage(path, map, false);
+}
 
 bool ImageFormatFromPath(const std::string& path, ImageFormat* format) {
   std::string ext = LowerExtension(path);

@@ -21,6 +21,10 @@ enum class ImageFormat { kPng, kExr, kPfm };
 
 // The format named by the path's extension (case-insensitive); false for any other.
 bool ImageFormatFromPath(const std::string& path, ImageFormat* format);
+bool IsExrPath(const std::string& path);
+
+// --spp-map: samples per pixel as a heat map (PNG) or raw counts (EXR, PFM).
+void WriteSppMap(const std::string& path, const FilmImage& image);
 
 // The sRGB OETF on one linear value, and its 8-bit code after clamping to [0, 1] (NaN -> 0).
 float LinearToSrgb(float linear);

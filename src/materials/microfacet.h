@@ -54,12 +54,13 @@ struct GgxDistribution {
   // Height-correlated masking-shadowing of the pair.
   PT_HDI float G(vec3 wo, vec3 wi) const { return 1.0f / (1.0f + Lambda(wo) + Lambda(wi)); }
 
-  // Distribution of normals visible from w (either side: |.| throughout, so w and -w see the
-  // same upper-hemisphere normals). Integrates to 1 over wm.z > 0.
+  // Distribution of upper-hemisphere normals visible from w: from below (w.z < 0) the same as
+  // from -w. Integrates to 1 over wm.z > 0; zero for normals facing away.
   PT_HDI float VisibleD(vec3 w, vec3 wm) const {
     float cosT = fabsf(w.z);
-    if (cosT == 0.0f) return 0.0f;
-    return G1(w) / cosT * D(wm) * fabsf(glm::dot(w, wm));
+    float cosM = copysignf(1.0f, w.z) * glm::dot(w, wm);
+    if (cosT == 0.0f || cosM <= 0.0f) return 0.0f;
+    return G1(w) / cosT * D(wm) * cosM;
   }
 
   // Draws wm (wm.z > 0) from VisibleD(w, .): Heitz 2018. Stretch w to the unit-roughness

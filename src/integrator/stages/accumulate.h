@@ -10,22 +10,41 @@ namespace pt {
 
 PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
                             uint32_t localPixel, Counter* counters) {
-  uint32_t filmPixel = wave.pixelStart + localPixel;
-  vec3 sum = film.sum[filmPixel];
-  vec3 sumSquares = film.sumSquares[filmPixel];
+  uint32_t pixel = wave.FilmPixelOf(localPixel);
+  uint32_t n = film.sampleCount[pixel];
+  float lumMean = film.lumMean[pixel], lumM2 = film.lumM2[pixel];
+  vec3 mean = film.mean ? film.mean[pixel] : vec3(0.0f);
+  vec3 m2 = film.mean ? film.m2[pixel] : vec3(0.0f);
+  glm::dvec3 meanD = film.meanDouble ? film.meanDouble[pixel] : glm::dvec3(0.0);
+  glm::dvec3 m2D = film.meanDouble ? film.m2Double[pixel] : glm::dvec3(0.0);
   uint32_t nonfinite = 0;
   for (uint32_t s = 0; s < wave.samplesInWave; ++s) {
-    vec3 l = ps.radiance[s * wave.pixelCount + localPixel];
+    uint32_t id = s * wave.pixelCount + localPixel;
+    vec3 l = ps.radiance[id];
     if (!IsFinite(l)) {
       ++nonfinite;
       l = vec3(0.0f);
     }
-    sum += l;
-    sumSquares += l * l;
+    ++n;
+    if (film.meanDouble) WelfordAdd(meanD, m2D, glm::dvec3(l), double(n));
+    else WelfordAdd(mean, m2, l, float(n));
+    WelfordAdd(lumMean, lumM2, Luminance(l), float(n));
+    if (film.albedoSum) {
+      film.albedoSum[pixel] += ps.featureAlbedo[id];
+      film.normalSum[pixel] += ps.featureNormal[id];
+      film.depthSum[pixel] += ps.featureDepth[id];
+    }
   }
-  film.sum[filmPixel] = sum;
-  film.sumSquares[filmPixel] = sumSquares;
-  film.sampleCount[filmPixel] += wave.samplesInWave;
+  if (film.meanDouble) {
+    film.meanDouble[pixel] = meanD;
+    film.m2Double[pixel] = m2D;
+  } else {
+    film.mean[pixel] = mean;
+    film.m2[pixel] = m2;
+  }
+  film.lumMean[pixel] = lumMean;
+  film.lumM2[pixel] = lumM2;
+  film.sampleCount[pixel] = n;
   if (nonfinite && counters) AddToCounter(&counters[kCounterNonfinite], nonfinite);
 }
 

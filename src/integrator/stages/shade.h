@@ -31,6 +31,30 @@ PT_HDI float EmitterHitWeight(IntegratorKind kind, uint32_t flags, float prevPdf
   }
 }
 
+// Where a new ray starts: past the hit point's error bounds (robust), or, for the robustness
+// study only, a fixed distance along the normal (--ray-offset EPS).
+PT_HDI vec3 SpawnOrigin(const IntegratorParams& params, const SurfaceInteraction& si, vec3 w) {
+  if (params.rayOffsetEpsilon <= 0.0f) return OffsetRayOrigin(si.p, si.pError, si.ng, w);
+  float side = glm::dot(w, si.ng) < 0.0f ? -1.0f : 1.0f;
+  return si.p + (side * params.rayOffsetEpsilon) * si.ng;
+}
+
+// First-hit features for denoisers: the surface's reflectance colour, its shading normal on
+// the camera's side, and the hit distance (zeros where the camera ray escapes).
+PT_HDI void WriteFeatures(PathState ps, uint32_t id, vec3 albedo, vec3 normal, float depth) {
+  ps.featureAlbedo[id] = albedo;
+  ps.featureNormal[id] = normal;
+  ps.featureDepth[id] = depth;
+}
+
+PT_HDI vec3 FeatureAlbedo(const Material& m) {
+  switch (m.type) {
+    case MaterialType::kDielectric: return vec3(1.0f);
+    case MaterialType::kEmissive: return vec3(0.0f);
+    default: return m.albedo;
+  }
+}
+
 // Ends the path, keeping what it gathered.
 PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radiance) {
   ps.radiance[id] = radiance;
@@ -50,7 +74,7 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
   float weight = 1.0f;
   if (!ls.isDelta && params.kind == IntegratorKind::kMis)
     weight = PowerHeuristic(ls.pdf, PdfBsdf(mat, woLocal, wiLocal));
-  vec3 origin = OffsetRayOrigin(si.p, si.pError, si.ng, ls.wi);
+  vec3 origin = SpawnOrigin(params, si, ls.wi);
   ps.shadowOrigin[id] = origin;
   ps.shadowDir[id] = ls.wi;
   ps.shadowTMax[id] = ls.isInfinite ? kInfinity
@@ -60,9 +84,9 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 }
 
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
-PT_HDI bool ContinuePath(const SurfaceInteraction& si, const Material& mat, const Frame& frame,
-                         vec3 wo, vec3 woLocal, vec4 u, int rrDepth, uint32_t depth,
-                         vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
+PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
+                         const Material& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
+                         uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
   BsdfSample bs;
   if (!SampleBsdf(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
     return false;
@@ -76,14 +100,14 @@ PT_HDI bool ContinuePath(const SurfaceInteraction& si, const Material& mat, cons
   if (bs.isDelta) f |= kFlagSpecular;
   if (bs.isTransmission) f = WithMedium(f, glm::dot(wo, si.ng) > 0.0f ? int32_t(si.material) : -1);
   // Russian roulette: survivors carry the weight of those ended.
-  if (int(depth) >= rrDepth) {
+  if (int(depth) >= params.rrDepth) {
     float q = fmaxf(0.0f, 1.0f - MaxComponent(*beta));
     if (u.w < q) return false;
     *beta /= 1.0f - q;
   }
   *flags = f;
   ps.prevPdf[id] = bs.isDelta ? 0.0f : bs.pdf;
-  ps.rayOrigin[id] = OffsetRayOrigin(si.p, si.pError, si.ng, wi);
+  ps.rayOrigin[id] = SpawnOrigin(params, si, wi);
   ps.rayDir[id] = wi;
   return true;
 }
@@ -107,7 +131,8 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   }
 
   if (hit.prim == HitRecord::kNoHit) {  // escaped: the background is a light
-    if (scene.backgroundLight >= 0) {
+    if (params.featureBuffers && depth == 0) WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
+    if (scene.backgroundLight >= 0 && params.Counts(depth)) {
       float w = EmitterHitWeight(params.kind, flags, prevPdf, BackgroundLightPdf(scene));
       radiance += beta * scene.background * w;
     }
@@ -118,9 +143,11 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   SurfaceInteraction si = MakeInteraction(scene, ray, hit);
   Material mat = ResolveMaterial(scene, si);
   vec3 wo = -ray.d;
+  if (params.featureBuffers && depth == 0)
+    WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns, hit.t);
   if (mat.type == MaterialType::kEmissive) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
-    if (!IsBlack(le) && si.light >= 0) {
+    if (!IsBlack(le) && si.light >= 0 && params.Counts(depth)) {
       float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
       radiance += beta * le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
     }
@@ -135,14 +162,14 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   Frame frame = Frame::FromZ(si.ns);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
-  if (params.kind != IntegratorKind::kBsdf && HasNonDeltaLobe(mat)) {
+  if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) && HasNonDeltaLobe(mat)) {
     vec4 uLight = key.Draw4(depth, kDimLight);
     if (QueueLightSample(scene, params, si, mat, frame, woLocal, beta, uLight, ps, id))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(depth, kDimBsdf);
-  bool alive = ContinuePath(si, mat, frame, wo, woLocal, uBsdf, params.rrDepth, depth, &beta,
-                            &flags, ps, id);
+  bool alive = ContinuePath(params, si, mat, frame, wo, woLocal, uBsdf, depth, &beta, &flags,
+                            ps, id);
   ps.throughput[id] = beta;
   ps.radiance[id] = radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
