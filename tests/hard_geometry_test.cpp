@@ -28,7 +28,13 @@ namespace {
 
 using glm::dvec3;
 
-constexpr double kEps = 0x1p-24;  // unit roundoff of float (half an ulp of 1)
+constexpr double kEps = 0x1p-24;
+
+std::string Fmt(double v) {  // for RecordProperty: 3 significant digits, any magnitude
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.3g", v);
+  return buf;
+}  // unit roundoff of float (half an ulp of 1)
 constexpr double kPiD = 3.14159265358979323846;
 
 // A scene of bare shapes (one diffuse material), built by the renderer's own BuildScene so the
@@ -156,7 +162,7 @@ TEST(HardGeometry, GrazingRaysHitAxisAlignedTrianglesAndQuadsDownTo1e6Rad) {
   }
   EXPECT_EQ(failures, 0) << "of " << tested;
   EXPECT_GT(tested, 11000);
-  RecordProperty("worst_relative_t_error", std::to_string(worst));
+  RecordProperty("worst_relative_t_error", Fmt(worst));
 }
 
 // The same bug at ordinary angles: small floor triangles (1 cm) seen from 100 units away by a
@@ -365,7 +371,7 @@ TEST(HardGeometry, GrazingRaysAtSphereSilhouettes) {
   EXPECT_EQ(failures, 0) << "of " << required << " required hits";
   EXPECT_GT(required, 9000);
   EXPECT_LT(smallestRequiredAngle, 2e-3);
-  RecordProperty("smallest_asserted_sphere_angle", std::to_string(smallestRequiredAngle));
+  RecordProperty("smallest_asserted_sphere_angle", Fmt(smallestRequiredAngle));
 }
 
 // ---- Shared edges and vertices far from the origin ----

@@ -34,6 +34,12 @@ using glm::dvec3;
 
 constexpr double kEps = 0x1p-24;
 
+std::string Fmt(double v) {  // for RecordProperty: 3 significant digits, any magnitude
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.3g", v);
+  return buf;
+}
+
 // z with P(|Z| > z) = p for a standard normal (bisection on erfc).
 double TwoSidedZ(double p) {
   double lo = 0.0, hi = 40.0;
@@ -195,7 +201,7 @@ TEST(HardTransport, TotalInternalReflectionAtAndNearTheCriticalAngle) {
 // ---- Invisible glass ----
 
 constexpr const char* kRoomJson = R"({
-  "render": {"width": 32, "height": 32, "spp": SPP, "max_depth": 6, "seed": SEED},
+  "render": {"width": 32, "height": 32, "spp": SPP, "max_depth": DEPTH, "seed": SEED},
   "camera": {"position": [0, 1, 3.9], "look_at": [0, 1, 0], "fov_y": 39.3},
   "materials": {
     "white": {"type": "diffuse", "albedo": [0.73, 0.73, 0.73]},
@@ -218,13 +224,14 @@ constexpr const char* kRoomJson = R"({
   ]
 })";
 
-std::string Room(int spp, int seed, const std::string& extra) {
+std::string Room(int spp, int seed, const std::string& extra, int maxDepth = 6) {
   std::string s = kRoomJson;
   auto put = [&s](const std::string& key, const std::string& value) {
     s.replace(s.find(key), key.size(), value);
   };
   put("SPP", std::to_string(spp));
   put("SEED", std::to_string(seed));
+  put("DEPTH", std::to_string(maxDepth));
   put("EXTRA", extra);
   return s;
 }
@@ -233,12 +240,17 @@ std::string Room(int spp, int seed, const std::string& extra) {
 // so the room renders the same with it as without. It still blocks shadow rays, so light
 // behind it arrives only through BSDF-sampled paths (whose emitter hits after the specular
 // crossing count fully): the same mean, a larger variance - exactly what the test allows.
+// Its two crossings do count as bounces (max_depth counts bounces as pbrt does, specular ones
+// included), so with max_depth 6 the room seen through it lacks its 5th and 6th diffuse
+// bounces (~10% darker, measured): the limit here is 64 with Russian roulette from bounce 3,
+// which ends paths without bias, and the light left after 64 bounces (< 0.73^60) is nil.
 // Independent seeds; 8x8-pixel blocks of a 32x32 image at 256 spp (16384 samples a block),
 // 48 block-channel z-tests, family false alarm 1e-4.
 TEST(HardTransport, Ior1GlassSphereIsInvisible) {
-  Scene without = SceneFromJson(Room(256, 1, ""));
+  Scene without = SceneFromJson(Room(256, 1, "", 64));
   Scene with = SceneFromJson(Room(
-      256, 2, R"(, {"type": "sphere", "center": [-0.35, 0.75, -0.2], "radius": 0.4, "material": "clear"})"));
+      256, 2, R"(, {"type": "sphere", "center": [-0.35, 0.75, -0.2], "radius": 0.4, "material": "clear"})",
+      64));
   RenderResult a = RenderChecked(without), b = RenderChecked(with);
   EXPECT_EQ(CompareBlocks(a.image, b.image, 8, 1e-4, "ior 1 sphere"), 0);
 }
@@ -344,7 +356,7 @@ TEST(HardTransport, AreaLitRoomRendersTheSameAtScales1em4To1e5) {
                      b.variance[i] / std::max(1u, b.samples[i / 3]);
     }
     EXPECT_LT(diff2, 0.05 * independent) << "scale " << s;
-    RecordProperty("decorrelation_at_scale_" + std::to_string(s), std::to_string(diff2 / independent));
+    RecordProperty("decorrelation_at_scale_" + std::to_string(s), Fmt(diff2 / independent));
   }
 }
 
@@ -526,17 +538,17 @@ TEST(HardTransport, GreyMirrorsShowNoAcneAndNoLostReflections) {
 // entries and exits alternate. A refracted ray that re-hits its own triangle (acne) would enter
 // twice (x 1 / eta^2 = 0.44), a ray slipping through a crack between triangles would leave
 // without having entered (x 2.25): so the image equals L exactly unless the mesh misbehaves.
-// Paths still inside after 64 bounces are cut; with the sampled reflection probability <= 1
-// only under total internal reflection, which no convex polyhedron sustains for long, they
-// are rare but possible, so the assertion is: every pixel within 1e-5 relative of L, except
-// at most 0.5% of pixels, and those within 2/16 of L (two lost samples of 16).
+// The bounce limit is 1000, not 64: on the faceted sphere a refracted ray can be caught in
+// total internal reflection from facet to facet for well over 64 bounces (at 64, ~0.4% of the
+// samples here are cut - measured), and a cut path would darken its pixel by 1/16. With 1000
+// every pixel is asserted equal to L within 1e-5 relative (float rounding over many bounces).
 // Same at scale 1e-3 and 1e3 (the latter 1e4 from the origin).
 TEST(HardTransport, GlassIcosphereIsInvisibleInUniformEnvironment) {
   for (double scale : {1.0, 1e-3, 1e3}) {
     dvec3 center = scale > 1.0 ? dvec3(1e4, -1e4, 0.0) : dvec3(0.0);
     auto num = [](double x) { std::ostringstream o; o.precision(9); o << x; return o.str(); };
     std::string json = R"({
-      "render": {"width": 24, "height": 24, "spp": 16, "max_depth": 64, "seed": 3,
+      "render": {"width": 24, "height": 24, "spp": 16, "max_depth": 1000, "seed": 3,
                  "russian_roulette_depth": 1000},
       "camera": {"position": [)" + num(center.x) + ", " + num(center.y) + ", " +
                        num(center.z + 5.0 * scale) + R"(], "look_at": [)" + num(center.x) + ", " +
@@ -546,15 +558,13 @@ TEST(HardTransport, GlassIcosphereIsInvisibleInUniformEnvironment) {
       "objects": []})";
     Scene scene = WithTriangles(DescFromJson(json), Icosphere(center, scale, 3), 0);
     RenderResult res = RenderChecked(scene);
-    int off = 0, far = 0;
+    int off = 0;
     for (size_t i = 0; i < res.image.rgb.size(); ++i) {
       float v = res.image.rgb[i];
-      if (std::fabs(v - 1.5f) > 1.5e-5f) ++off;
-      if (!(std::fabs(v - 1.5f) <= 1.5f * 2.0f / 16.0f) && ++far <= 5)
+      if (!(std::fabs(v - 1.5f) <= 1.5e-5f) && ++off <= 5)
         ADD_FAILURE() << "scale " << scale << " pixel " << i / 3 << ": " << v;
     }
-    EXPECT_LE(off, int(0.005 * res.image.rgb.size())) << "scale " << scale;
-    EXPECT_EQ(far, 0) << "scale " << scale;
+    EXPECT_EQ(off, 0) << "scale " << scale;
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 #include <vector>
 
 #include "src/integrator/film.h"
@@ -97,6 +98,7 @@ class WavefrontIntegrator {
   // ---- One wave, bounce by bounce ----
   void RunWave(const WaveInfo& wave) {
     uint32_t n = wave.PathCount();
+    if (n > queue_.Size()) throw std::logic_error("wave larger than the path buffers");
     GenerateCameraRays(wave);
     stats_.cameraRays += n;
     uint32_t alive = n;

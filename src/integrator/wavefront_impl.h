@@ -26,7 +26,12 @@ void WavefrontIntegrator<Backend>::Allocate() {
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
-  AllocatePaths(plan_.pathCapacity);
+  // Adaptive waves over fewer pixels pack more samples per wave: up to the path budget.
+  size_t capacity = plan_.pathCapacity;
+  if (adaptive_.enabled)
+    capacity = std::min<size_t>(std::max<size_t>(plan_.maxPaths, 1),
+                                size_t(plan_.cropPixels) * plan_.spp);
+  AllocatePaths(capacity);
   AllocateFilm(plan_.cropPixels);
   counters_.Resize(kCounterCount);
   counters_.Zero();
