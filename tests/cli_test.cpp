@@ -205,11 +205,13 @@ TEST(CliParse, LaterFeatureOptionsParse) {
   EXPECT_EQ(d.rayOffsetEpsilon, 0.0f);
   EXPECT_FALSE(d.filmDouble);
   EXPECT_EQ(Parse({"s.json", "-o", "o.png"}).adaptive, Toggle::kAuto);
+  EXPECT_TRUE(Parse({"s.json", "-o", "o.png"}).specialize);
+  EXPECT_FALSE(Parse({"s.json", "-o", "o.png", "--specialize=off"}).specialize);
 }
 
 TEST(CliParse, LaterFeaturesAreRefusedNotIgnored) {
   std::vector<std::vector<const char*>> refused = {
-      {"--sort", "queues"}, {"--tri-test", "mt"}, {"--specialize", "off"},
+      {"--sort", "queues"}, {"--tri-test", "mt"},
   };
   for (auto args : refused) {
     args.insert(args.begin(), {"s.json", "-o", "o.png"});

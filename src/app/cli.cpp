@@ -210,7 +210,10 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
        [](CliOptions& o, ValueSource& s) {
          o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
        }},
-      {"--specialize", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "on", {"off"}); }},
+      {"--specialize",
+       [](CliOptions& o, ValueSource& s) {
+         o.specialize = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
+       }},
       {"--ray-offset",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
@@ -330,9 +333,7 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
   --quiet                  no progress bar (shown only when stderr is a terminal anyway)
   --help, --version
 
-Accepted but fixed for now: --tri-test watertight, --ray-offset robust, --film float,
---specialize on. Not built yet (refused): --adaptive, --spp-map, --light-paths,
---sort queues, --tri-test mt, --ray-offset EPS, --film double, --specialize off.
+Not built yet (refused): --sort queues, --tri-test mt.
 
 Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
 3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).

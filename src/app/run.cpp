@@ -14,6 +14,7 @@
 #include "src/app/stats_json.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
+#include "src/scene/effects.h"
 
 namespace pt {
 namespace {
@@ -78,10 +79,6 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   }
   for (const std::string& warning : desc.warnings) {
     std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
-  }
-  if (desc.skippedDegenerateTriangles > 0) {
-    std::fprintf(stderr, "pathtracer: warning: %s: skipped %d degenerate triangles\n",
-                 desc.path.c_str(), desc.skippedDegenerateTriangles);
   }
   return desc;
 }
@@ -195,6 +192,17 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction re
   }
 }
 
+// One line saying what the scene needs simulated and which stage variant runs it.
+void PrintEffects(const Scene& scene, bool specialize) {
+  uint32_t effects = AnalyzeEffects(scene);
+  std::string names;
+  for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
+  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
+               names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
+               specialize ? "" : " (--specialize off)");
+}
+
 void PrintSummary(const RenderResult& result) {
   const RenderStats& s = result.stats;
   RenderRates rates = ComputeRates(s);
@@ -211,6 +219,7 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   AppTimes times;
   SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
   Scene scene = Build(std::move(desc), &times.bvhBuildMs);
+  PrintEffects(scene, cli.specialize);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);

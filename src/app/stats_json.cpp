@@ -1,5 +1,7 @@
 #include "src/app/stats_json.h"
 
+#include "src/scene/effects.h"
+
 #include <algorithm>
 
 #include "src/io/image_io.h"
@@ -41,35 +43,7 @@ Json TimesJson(const RenderStats& stats, const AppTimes& times) {
 }  // namespace
 
 std::vector<std::string> SceneEffectNames(const Scene& scene) {
-  bool used[size_t(MaterialType::kCount)] = {};
-  bool absorption = false;
-  for (const PrimRef& prim : scene.prims) {
-    if (prim.material >= scene.desc.materials.size()) continue;
-    const Material& m = scene.desc.materials[prim.material];
-    used[size_t(m.type)] = true;
-    if (m.type == MaterialType::kDielectric && MaxComponent(m.absorption) > 0.0f) {
-      absorption = true;
-    }
-  }
-  std::vector<std::string> names;
-  const char* kTypeNames[] = {"diffuse", "emissive", "conductor", "dielectric", "plastic"};
-  for (size_t t = 0; t < size_t(MaterialType::kCount); ++t) {
-    if (used[t]) names.push_back(kTypeNames[t]);
-  }
-  if (absorption) names.push_back("absorption");
-  // Every emissive primitive is an area light, whether or not the light table lists it yet.
-  if (used[size_t(MaterialType::kEmissive)] || HasLight(scene, LightType::kArea)) {
-    names.push_back("area_lights");
-  }
-  if (!scene.desc.pointLights.empty() || HasLight(scene, LightType::kPoint)) {
-    names.push_back("point_lights");
-  }
-  if (scene.backgroundLight >= 0 || HasLight(scene, LightType::kBackground) ||
-      MaxComponent(scene.desc.background) > 0.0f) {
-    names.push_back("background_light");
-  }
-  if (scene.desc.camera.apertureRadius > 0.0f) names.push_back("depth_of_field");
-  return names;
+  return EffectNames(AnalyzeEffects(scene));
 }
 
 RenderRates ComputeRates(const RenderStats& stats) {

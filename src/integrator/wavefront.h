@@ -150,14 +150,24 @@ class WavefrontIntegrator {
     backend_.SortByKey(Stage::kSort, sortKeys_.Data(), queue_.Data(), n);
   }
 
-  // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette.
+  // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette;
+  // in the variant compiled for the scene's effects.
   void Shade(const WaveInfo& wave, uint32_t n) {
+    switch (featureClass_) {
+      case FeatureClass::kDiffuse: ShadeVariant<FeatureClass::kDiffuse>(wave, n); break;
+      case FeatureClass::kSmooth: ShadeVariant<FeatureClass::kSmooth>(wave, n); break;
+      default: ShadeVariant<FeatureClass::kGeneral>(wave, n); break;
+    }
+  }
+
+  template <FeatureClass C>
+  void ShadeVariant(const WaveInfo& wave, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     IntegratorParams params = params_;
     const uint32_t* queue = queue_.Data();
     backend_.ParallelFor(Stage::kShade, n, [=] PT_HD(uint32_t i) {
-      ShadePath(scene, params, wave, ps, queue[i]);
+      ShadePath<C>(scene, params, wave, ps, queue[i]);
     });
   }
 
@@ -253,6 +263,7 @@ class WavefrontIntegrator {
   Buffer<uint32_t> filmCount_, activePixels_;
   FilmView film_{};
   AdaptiveSettings adaptive_;
+  FeatureClass featureClass_ = FeatureClass::kGeneral;
   bool stopped_ = false;
   Buffer<Counter> counters_;
 

@@ -23,6 +23,9 @@ inline IntegratorParams MakeParams(const RenderSettings& r, const RenderOptions&
 template <typename Backend>
 void WavefrontIntegrator<Backend>::Allocate() {
   params_ = MakeParams(scene_.desc.render, options_);
+  featureClass_ = options_.specialize ? ChooseFeatureClass(AnalyzeEffects(scene_))
+                                      : FeatureClass::kGeneral;
+  stats_.specialization = FeatureClassName(featureClass_);
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);

@@ -9,8 +9,7 @@
 #include "src/integrator/path_state.h"
 #include "src/integrator/wave.h"
 #include "src/lights/light_sample.h"
-#include "src/materials/bsdf.h"
-#include "src/materials/texture.h"
+#include "src/integrator/stages/bsdf_variant.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -63,17 +62,18 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 
 // Next-event estimation at a non-delta vertex: sample a light, and queue the shadow ray that
 // decides whether its (MIS-weighted) contribution counts.
+template <FeatureClass C>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const Material& mat, const Frame& frame,
                              vec3 woLocal, vec3 beta, vec4 u, PathState ps, uint32_t id) {
   LightLiSample ls;
   if (!SampleLightLi(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
-  vec3 f = EvalBsdf(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  vec3 f = EvalBsdfFor<C>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
   if (IsBlack(f) || IsBlack(ls.L)) return false;
   float weight = 1.0f;
   if (!ls.isDelta && params.kind == IntegratorKind::kMis)
-    weight = PowerHeuristic(ls.pdf, PdfBsdf(mat, woLocal, wiLocal));
+    weight = PowerHeuristic(ls.pdf, PdfBsdfFor<C>(mat, woLocal, wiLocal));
   vec3 origin = SpawnOrigin(params, si, ls.wi);
   ps.shadowOrigin[id] = origin;
   ps.shadowDir[id] = ls.wi;
@@ -84,11 +84,12 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 }
 
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
+template <FeatureClass C>
 PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
                          const Material& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
                          uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
   BsdfSample bs;
-  if (!SampleBsdf(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
+  if (!SampleBsdfFor<C>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
     return false;
   vec3 wi = frame.FromLocal(bs.wi);
   // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
@@ -98,7 +99,8 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
   uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
   if (bs.isDelta) f |= kFlagSpecular;
-  if (bs.isTransmission) f = WithMedium(f, glm::dot(wo, si.ng) > 0.0f ? int32_t(si.material) : -1);
+  if (kHasMedia<C> && bs.isTransmission)
+    f = WithMedium(f, glm::dot(wo, si.ng) > 0.0f ? int32_t(si.material) : -1);
   // Russian roulette: survivors carry the weight of those ended.
   if (int(depth) >= params.rrDepth) {
     float q = fmaxf(0.0f, 1.0f - MaxComponent(*beta));
@@ -112,6 +114,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   return true;
 }
 
+template <FeatureClass C>
 PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
                       const WaveInfo& wave, PathState ps, uint32_t id) {
   uint32_t flags = ps.flags[id];
@@ -124,7 +127,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   float prevPdf = ps.prevPdf[id];
 
   // Beer-Lambert attenuation over the segment travelled inside a dielectric.
-  int32_t medium = MediumOf(flags);
+  int32_t medium = kHasMedia<C> ? MediumOf(flags) : -1;
   if (medium >= 0) {
     vec3 sigma = scene.materials[medium].absorption;
     if (!IsBlack(sigma)) beta *= glm::exp(-sigma * hit.t);
@@ -141,7 +144,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   }
 
   SurfaceInteraction si = MakeInteraction(scene, ray, hit);
-  Material mat = ResolveMaterial(scene, si);
+  Material mat = MaterialAt<C>(scene, si);
   vec3 wo = -ray.d;
   if (params.featureBuffers && depth == 0)
     WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns, hit.t);
@@ -162,13 +165,14 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   Frame frame = Frame::FromZ(si.ns);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
-  if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) && HasNonDeltaLobe(mat)) {
+  if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) &&
+      HasNonDeltaLobeFor<C>(mat)) {
     vec4 uLight = key.Draw4(depth, kDimLight);
-    if (QueueLightSample(scene, params, si, mat, frame, woLocal, beta, uLight, ps, id))
+    if (QueueLightSample<C>(scene, params, si, mat, frame, woLocal, beta, uLight, ps, id))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(depth, kDimBsdf);
-  bool alive = ContinuePath(params, si, mat, frame, wo, woLocal, uBsdf, depth, &beta, &flags,
+  bool alive = ContinuePath<C>(params, si, mat, frame, wo, woLocal, uBsdf, depth, &beta, &flags,
                             ps, id);
   ps.throughput[id] = beta;
   ps.radiance[id] = radiance;

@@ -1,0 +1,58 @@
+// The BSDF calls of the shade stage, per feature class. The diffuse variant calls the
+// Lambertian lobe directly and the smooth variant adds only the delta lobes, so their kernels
+// contain no microfacet, plastic or texture code at all; the general variant dispatches over
+// every material. Each variant computes exactly what the general one does for the materials
+// it admits (same functions, same order), so images are bit-identical on the CPU.
+#pragma once
+
+#include "src/materials/bsdf.h"
+#include "src/materials/texture.h"
+#include "src/scene/effects.h"
+
+namespace pt {
+
+template <FeatureClass C>
+PT_HDI Material MaterialAt(const SceneView& s, const SurfaceInteraction& si) {
+  if constexpr (C == FeatureClass::kGeneral) return ResolveMaterial(s, si);
+  else return s.materials[si.material];
+}
+
+template <FeatureClass C>
+PT_HDI vec3 EvalBsdfFor(const Material& m, vec3 wo, vec3 wi) {
+  if constexpr (C == FeatureClass::kGeneral) return EvalBsdf(m, wo, wi);
+  else return m.type == MaterialType::kDiffuse ? EvalLambert(m, wo, wi) : vec3(0.0f);
+}
+
+template <FeatureClass C>
+PT_HDI float PdfBsdfFor(const Material& m, vec3 wo, vec3 wi) {
+  if constexpr (C == FeatureClass::kGeneral) return PdfBsdf(m, wo, wi);
+  else return m.type == MaterialType::kDiffuse ? PdfLambert(wo, wi) : 0.0f;
+}
+
+template <FeatureClass C>
+PT_HDI bool SampleBsdfFor(const Material& m, vec3 wo, float uc, vec2 u, BsdfSample* s) {
+  if constexpr (C == FeatureClass::kGeneral) {
+    return SampleBsdf(m, wo, uc, u, s);
+  } else if constexpr (C == FeatureClass::kSmooth) {
+    switch (m.type) {
+      case MaterialType::kDiffuse: return SampleLambert(m, wo, u, s);
+      case MaterialType::kConductor: return SampleSmoothConductor(m, wo, s);
+      case MaterialType::kDielectric: return SampleSmoothDielectric(m, wo, uc, s);
+      default: return false;
+    }
+  } else {
+    return m.type == MaterialType::kDiffuse && SampleLambert(m, wo, u, s);
+  }
+}
+
+template <FeatureClass C>
+PT_HDI bool HasNonDeltaLobeFor(const Material& m) {
+  if constexpr (C == FeatureClass::kGeneral) return HasNonDeltaLobe(m);
+  else return m.type == MaterialType::kDiffuse && !IsBlack(m.albedo);
+}
+
+// Media exist only where light can refract into glass.
+template <FeatureClass C>
+constexpr bool kHasMedia = C != FeatureClass::kDiffuse;
+
+}  // namespace pt

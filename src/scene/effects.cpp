@@ -1,0 +1,66 @@
+#include "src/scene/effects.h"
+
+#include "src/materials/bsdf.h"
+
+namespace pt {
+
+uint32_t AnalyzeEffects(const Scene& scene) {
+  const SceneDesc& d = scene.desc;
+  std::vector<bool> used(d.materials.size(), false);
+  for (const PrimRef& prim : scene.prims)
+    if (prim.material < used.size()) used[prim.material] = true;
+  uint32_t e = 0;
+  const uint32_t kTypeEffect[] = {kEffectDiffuse, kEffectEmissive, kEffectConductor,
+                                  kEffectDielectric, kEffectPlastic};
+  for (size_t i = 0; i < d.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = d.materials[i];
+    e |= kTypeEffect[size_t(m.type)];
+    if (m.type == MaterialType::kDielectric && MaxComponent(m.absorption) > 0.0f)
+      e |= kEffectAbsorption;
+    bool glossy = m.type == MaterialType::kConductor || m.type == MaterialType::kDielectric ||
+                  m.type == MaterialType::kPlastic;
+    if (glossy && !IsSmooth(m)) e |= kEffectRoughLobes;
+    if (m.baseColorTexture >= 0) e |= kEffectTextures;
+  }
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kArea) e |= kEffectAreaLights;
+    if (l.type == LightType::kPoint) e |= kEffectPointLights;
+    if (l.type == LightType::kBackground) e |= kEffectBackgroundLight;
+  }
+  if (!d.pointLights.empty()) e |= kEffectPointLights;
+  if (d.camera.apertureRadius > 0.0f) e |= kEffectDepthOfField;
+  return e;
+}
+
+std::vector<std::string> EffectNames(uint32_t effects) {
+  static const char* kNames[] = {"diffuse",      "emissive",        "conductor",
+                                 "dielectric",   "plastic",         "absorption",
+                                 "rough_lobes",  "textures",        "depth_of_field",
+                                 "area_lights",  "point_lights",    "background_light"};
+  std::vector<std::string> names;
+  for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
+    if (effects & (1u << bit)) names.push_back(kNames[bit]);
+  return names;
+}
+
+FeatureClass ChooseFeatureClass(uint32_t effects) {
+  const uint32_t kDiffuseOnly = kEffectDiffuse | kEffectEmissive;
+  const uint32_t kNeedsGeneral = kEffectPlastic | kEffectRoughLobes | kEffectTextures;
+  uint32_t materials = effects & (kDiffuseOnly | kEffectConductor | kEffectDielectric |
+                                  kEffectPlastic | kEffectAbsorption | kEffectRoughLobes |
+                                  kEffectTextures);
+  if ((materials & ~kDiffuseOnly) == 0) return FeatureClass::kDiffuse;
+  if ((materials & kNeedsGeneral) == 0) return FeatureClass::kSmooth;
+  return FeatureClass::kGeneral;
+}
+
+const char* FeatureClassName(FeatureClass c) {
+  switch (c) {
+    case FeatureClass::kDiffuse: return "diffuse";
+    case FeatureClass::kSmooth: return "smooth";
+    default: return "general";
+  }
+}
+
+}  // namespace pt
