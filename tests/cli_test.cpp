@@ -207,11 +207,13 @@ TEST(CliParse, LaterFeatureOptionsParse) {
   EXPECT_EQ(Parse({"s.json", "-o", "o.png"}).adaptive, Toggle::kAuto);
   EXPECT_TRUE(Parse({"s.json", "-o", "o.png"}).specialize);
   EXPECT_FALSE(Parse({"s.json", "-o", "o.png", "--specialize=off"}).specialize);
+  EXPECT_EQ(Parse({"s.json", "-o", "o.png", "--tri-test", "mt"}).triangleTest,
+            TriangleTest::kMollerTrumbore);
 }
 
 TEST(CliParse, LaterFeaturesAreRefusedNotIgnored) {
   std::vector<std::vector<const char*>> refused = {
-      {"--sort", "queues"}, {"--tri-test", "mt"},
+      {"--sort", "queues"},
   };
   for (auto args : refused) {
     args.insert(args.begin(), {"s.json", "-o", "o.png"});

@@ -97,30 +97,30 @@ double IntegrateAdaptive(const HalfVectorIntegrand& f, double v0, double p0, dou
   double refined = 0;
   for (int k = 0; k < 4; ++k)
     refined += IntegrateAdaptive(f, v0 + (k / 2) * dv / 2, p0 + (k % 2) * dp / 2, dv / 2, dp / 2,
-                                 part[k], tol / 2, depth - 1);
+                                 part[k], tol, depth - 1);
   return refined;
 }
 
-// 16 x 16 starting cells over v in [0, pi/2], phi in [0, pi], each refined to tol / 256.
+// 16 x 16 starting cells over v in [0, pi/2], phi in [0, pi]; any cell whose quarters differ
+// from it by more than tol is split (at most 8 times).
 double QuadratureAlbedo(const Material& m, vec3 wo, double alpha, double tol) {
   HalfVectorIntegrand f{m, wo, alpha};
   const int n = 16;
   double dv = (M_PI / 2) / n, dp = M_PI / n, sum = 0;
   for (int i = 0; i < n * n; ++i) {
     double v0 = (i / n) * dv, p0 = (i % n) * dp;
-    sum += IntegrateAdaptive(f, v0, p0, dv, dp, IntegrateCell(f, v0, p0, dv, dp),
-                             tol / (n * n), 10);
+    sum += IntegrateAdaptive(f, v0, p0, dv, dp, IntegrateCell(f, v0, p0, dv, dp), tol, 8);
   }
   return 2.0 * sum;  // phi in [pi, 2 pi) mirrors [0, pi)
 }
 
 struct Albedo {
-  double value, error;  // error: change from a 16x looser tolerance, an estimate of the error
+  double value, error;  // error: change from a 10x looser tolerance, an estimate of the error
 };
 
 Albedo QuadratureAlbedo(const Material& m, vec3 wo, double alpha) {
-  double fine = QuadratureAlbedo(m, wo, alpha, 1e-7);
-  double coarse = QuadratureAlbedo(m, wo, alpha, 1.6e-6);
+  double fine = QuadratureAlbedo(m, wo, alpha, 1e-9);
+  double coarse = QuadratureAlbedo(m, wo, alpha, 1e-8);
   return {fine, std::fabs(fine - coarse)};
 }
 

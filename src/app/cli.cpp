@@ -205,7 +205,11 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
                                                     {"direct", LightPaths::kDirect},
                                                     {"indirect", LightPaths::kIndirect}});
        }},
-      {"--tri-test", [](CliOptions&, ValueSource& s) { AcceptOnly(s, "watertight", {"mt"}); }},
+      {"--tri-test",
+       [](CliOptions& o, ValueSource& s) {
+         o.triangleTest = ParseChoice<TriangleTest>(
+             s, {{"watertight", TriangleTest::kWatertight}, {"mt", TriangleTest::kMollerTrumbore}});
+       }},
       {"--film",
        [](CliOptions& o, ValueSource& s) {
          o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
@@ -333,7 +337,7 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
   --quiet                  no progress bar (shown only when stderr is a terminal anyway)
   --help, --version
 
-Not built yet (refused): --sort queues, --tri-test mt.
+Not built yet (refused): --sort queues.
 
 Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
 3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).

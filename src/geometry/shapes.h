@@ -8,6 +8,7 @@
 #include "src/core/ray.h"
 #include "src/geometry/aabb.h"
 #include "src/geometry/interaction.h"
+#include "src/geometry/triangle_mt.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -184,6 +185,8 @@ PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray
   PrimRef ref = s.prims[primIndex];
   switch (ref.Type()) {
     case ShapeType::kTriangle:
+      if (s.triangleTest != 0)  // --tri-test mt, for the robustness study only
+        return IntersectTriangleMollerTrumbore(s.triangles[ref.Index()], ray, tMax, tHit, uv);
       return IntersectTriangle(s.triangles[ref.Index()], ray, rd, tMax, tHit, uv);
     case ShapeType::kQuad:
       return IntersectQuad(s.quads[ref.Index()], ray, tMax, tHit, uv);

@@ -29,6 +29,7 @@ void WavefrontIntegrator<Backend>::Allocate() {
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
+  sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
   // Adaptive waves over fewer pixels pack more samples per wave: up to the path budget.
   size_t capacity = plan_.pathCapacity;
   if (adaptive_.enabled)

@@ -17,6 +17,7 @@ struct SceneView {
   const TriangleUvs* triangleUvs = nullptr;  // null when no mesh has texture coordinates
   uint32_t nodeCount = 0;
   uint32_t primCount = 0;
+  uint32_t triangleTest = 0;  // 0: watertight (Woop et al.); 1: Moller-Trumbore (a study)
 
   // Appearance and light.
   const Material* materials = nullptr;
