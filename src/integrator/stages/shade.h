@@ -54,6 +54,15 @@ PT_HDI vec3 FeatureAlbedo(const Material& m) {
   }
 }
 
+// Shading normals may disagree with the surface: a pair of directions is usable only when the
+// geometric surface separates them exactly as the shading frame does (reflection stays on
+// one side, transmission crosses), otherwise a ray would leak through the surface.
+PT_HDI bool GeometricallyConsistent(const SurfaceInteraction& si, float woDotNg, vec3 wi,
+                                    bool shadingSameSide) {
+  bool geometricSameSide = woDotNg * glm::dot(wi, si.ng) > 0.0f;
+  return geometricSameSide == shadingSameSide;
+}
+
 // Ends the path, keeping what it gathered.
 PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radiance) {
   ps.radiance[id] = radiance;
@@ -65,10 +74,14 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 template <FeatureClass C>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const Material& mat, const Frame& frame,
-                             vec3 woLocal, vec3 beta, vec4 u, PathState ps, uint32_t id) {
+                             vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
+                             uint32_t id) {
   LightLiSample ls;
   if (!SampleLightLi(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
+  // Interpolated normals: a direction on the shading normal's side but through the geometric
+  // surface (or the reverse) would start its shadow ray on the wrong side, a light leak.
+  if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
   vec3 f = EvalBsdfFor<C>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
   if (IsBlack(f) || IsBlack(ls.L)) return false;
   float weight = 1.0f;
@@ -94,8 +107,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   vec3 wi = frame.FromLocal(bs.wi);
   // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
   // such a ray would leak light, so the path ends instead.
-  bool sameSide = glm::dot(wi, si.ng) * glm::dot(wo, si.ng) > 0.0f;
-  if (sameSide == bs.isTransmission) return false;
+  if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
   *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
   uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
   if (bs.isDelta) f |= kFlagSpecular;
@@ -168,7 +180,8 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) &&
       HasNonDeltaLobeFor<C>(mat)) {
     vec4 uLight = key.Draw4(depth, kDimLight);
-    if (QueueLightSample<C>(scene, params, si, mat, frame, woLocal, beta, uLight, ps, id))
+    if (QueueLightSample<C>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng), beta,
+                            uLight, ps, id))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(depth, kDimBsdf);
