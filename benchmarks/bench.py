@@ -17,11 +17,11 @@ import sys
 import tempfile
 
 
-def run_once(binary, scene, backend, compact, sort, extra, workdir):
+def run_once(binary, scene, backend, compact, sort, extra, workdir, variant_args=()):
     stats_path = os.path.join(workdir, "stats.json")
     image_path = os.path.join(workdir, "image.exr")
     cmd = [binary, scene, "-o", image_path, "--backend", backend, "--compact", compact,
-           "--sort", sort, "--stats-json", stats_path, "--quiet"] + extra
+           "--sort", sort, "--stats-json", stats_path, "--quiet"] + list(variant_args) + extra
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr[-2000:]}")
@@ -87,7 +87,7 @@ def main():
     ap.add_argument("--scene", action="append", required=True)
     ap.add_argument("--backend", action="append", default=None)
     ap.add_argument("--variants", default="on:off,on:material,off:off,off:material,auto:auto",
-                    help="comma-separated compact:sort pairs")
+                    help="comma-separated compact:sort[:extra flags] (extra flags space-separated)")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--out", default="out/bench")
     ap.add_argument("extra", nargs="*", help="extra pathtracer options after --")
@@ -100,14 +100,21 @@ def main():
             for backend in backends:
                 for rep in range(args.repeats):  # repeats outermost: drift hits all variants
                     for variant in args.variants.split(","):
-                        compact, sort = variant.split(":")
+                        parts = variant.split(":", 2)
+                        compact, sort = parts[0], parts[1]
+                        flags = parts[2].split() if len(parts) > 2 else []
+                        if flags:  # the table keys on (compact, sort): fold the flags into sort
+                            sort_label = sort + " " + " ".join(flags)
+                        else:
+                            sort_label = sort
                         if True:
                             stats, cmd = run_once(args.binary, scene, backend, compact, sort,
-                                                  args.extra, tmp)
+                                                  args.extra, tmp, flags)
                             t = stats["time_ms"]
                             rows.append({
                                 "scene": os.path.relpath(scene), "backend": backend,
-                                "compact": compact, "sort": sort, "repeat": rep,
+                                "compact": compact, "sort": sort_label, "repeat": rep,
+                                "specialization": stats.get("specialization", ""),
                                 "device": stats.get("device", ""),
                                 "render_ms": t["render"], "bvh_build_ms": t["bvh_build"],
                                 "msamples_per_s": stats["msamples_per_s"],

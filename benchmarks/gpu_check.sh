@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench}"
+STEPS="${STEPS:-info tests sanitize bench special}"
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -47,4 +47,15 @@ if [[ " $STEPS " == *" bench "* ]]; then
   # Primary rays alone on the bunny scene.
   $BENCH --scene benchmarks/scenes/bunny_cornell.json --variants on:off,auto:auto \
     --out "$OUT/bench_primary" -- --max-depth 0
+fi
+
+if [[ " $STEPS " == *" special "* ]]; then
+  step "specialised stage variants against the general one"
+  SCENES=""
+  for s in scenes/*.json benchmarks/scenes/bunny_cornell.json benchmarks/scenes/breakfast_room.json; do
+    SCENES="$SCENES --scene $s"
+  done
+  python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
+    $SCENES --variants "auto:auto:--specialize=on,auto:auto:--specialize=off" \
+    --out "$OUT/bench_special" -- --spp 64
 fi
