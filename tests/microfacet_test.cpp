@@ -334,6 +334,24 @@ TEST(RoughConductorTest, SamplingMatchesPdfOnBothSides) {
   }
 }
 
+// Power of the test above: a lobe sampled at 10% more alpha than its pdf claims is rejected.
+// Fixed seed, so deterministic.
+TEST(RoughConductorTest, ChiSquareRejectsAWrongAlpha) {
+  Material sampled = RoughConductor(vec3(0.9f), 0.3f);
+  Material claimed = RoughConductor(vec3(0.9f), 0.3f * std::sqrt(1.1f));
+  vec3 wo = glm::normalize(vec3(0.6f, 0.0f, 0.8f));
+  Uniform u(99);
+  auto sample = [&](vec3* w) {
+    BsdfSample s;
+    if (!SampleBsdf(sampled, wo, u(), u.Get2(), &s)) return false;
+    *w = s.wi;
+    return true;
+  };
+  auto pdf = [&](vec3 w) { return double(PdfBsdf(claimed, wo, w)); };
+  test::ChiSquareResult r = ChiSquareAccurate(sample, pdf, 100000, GridFor(claimed, wo));
+  EXPECT_LT(r.pValue, 1e-12) << r.message;
+}
+
 TEST(RoughConductorTest, IsReciprocalAndMirroredBelow) {
   Material m = RoughConductor(vec3(0.9f, 0.6f, 0.3f), 0.5f);
   Uniform u(7);
@@ -343,7 +361,9 @@ TEST(RoughConductorTest, IsReciprocalAndMirroredBelow) {
     EXPECT_LE(RelativeDifference(fab, fba), 1e-5f);  // Schlick at wo.wm = wi.wm: symmetric
     vec3 flipped = EvalBsdf(m, FlipZ(a), FlipZ(b));
     EXPECT_EQ(fab, flipped);  // two-sided: the back face is the front mirrored
-    if (!SameHemisphere(a, b)) EXPECT_TRUE(IsBlack(fab));
+    if (!SameHemisphere(a, b)) {
+      EXPECT_TRUE(IsBlack(fab));
+    }
   }
 }
 

@@ -3,10 +3,15 @@
 // EvalBsdf |cos| (no sampling code involved) and by the mean of SampleBsdf's path weights.
 //  - A conductor of albedo 1 (Schlick F = 1) keeps exactly the single-scattering GGX albedo:
 //    E <= 1 everywhere, each weight is G / G1 <= 1, and the Monte Carlo mean matches the
-//    quadrature. The energy lost grows with roughness; at normal incidence (this quadrature)
-//      roughness 0.1: E = 0.9997   0.3: E = 0.9850   0.6: E = 0.8667   1.0: E = 0.6002
-//    and at mu = cos(theta_o) = 0.2 (grazing loses most)
-//      roughness 0.1: E = 0.9968   0.3: E = 0.9472   0.6: E = 0.7210   1.0: E = 0.4807.
+//    quadrature. The quadrature's figures (alpha = roughness^2):
+//      roughness         0.1      0.3      0.6      1.0
+//      E(mu = 1)       0.99990  0.99067  0.82453  0.30685
+//      E(mu = 0.5)     0.99974  0.97509  0.78212  0.45069
+//      E(mu = 0.2)     0.99859  0.91403  0.82576  0.64165
+//    Rough GGX loses most near normal incidence, where reflections about steep microfacets
+//    leave below the horizon: at alpha = 1 the visible normals are cosine-distributed, the
+//    reflection leaves at twice their angle and G / G1 = 2 cos(2t) / (1 + cos(2t)), so
+//    E(1) = integral of x / (1 + x) over [0, 1] = 1 - ln 2, which the test checks.
 //  - Rough glass: reflection plus transmission weights, with the 1 / eta^2 radiance scaling
 //    undone, never exceed 1 (each is G / G1 <= 1), in expectation nor per sample.
 //  - Plastic of albedo 1: smooth, E = F + (1 - F) exactly; rough, at most ~1e-3 above 1 (the
@@ -18,6 +23,7 @@
 
 #include <algorithm>
 #include <random>
+#include <sstream>
 
 #include "src/materials/bsdf.h"
 #include "tests/stat_test_util.h"
@@ -119,8 +125,8 @@ struct Albedo {
 };
 
 Albedo QuadratureAlbedo(const Material& m, vec3 wo, double alpha) {
-  double fine = QuadratureAlbedo(m, wo, alpha, 1e-9);
-  double coarse = QuadratureAlbedo(m, wo, alpha, 1e-8);
+  double fine = QuadratureAlbedo(m, wo, alpha, 1e-8);
+  double coarse = QuadratureAlbedo(m, wo, alpha, 1e-7);
   return {fine, std::fabs(fine - coarse)};
 }
 
@@ -150,8 +156,11 @@ TEST(WhiteFurnaceTest, ConductorLosesOnlyWhatSingleScatteringGgxLoses) {
     Material m = Make(MaterialType::kConductor, vec3(1.0f), 1.5f, roughness);
     for (float mu : {1.0f, 0.8f, 0.5f, 0.2f, 0.05f}) {
       Albedo q = QuadratureAlbedo(m, View(mu), GgxAlpha(roughness));
-      EXPECT_LT(q.error, 2e-5) << "roughness " << roughness << " mu " << mu;
+      EXPECT_LT(q.error, 1e-4) << "roughness " << roughness << " mu " << mu;
       EXPECT_LE(q.value, 1.0 + q.error) << "roughness " << roughness << " mu " << mu;
+      if (roughness == 1.0f && mu == 1.0f) {
+        EXPECT_NEAR(q.value, 1.0 - std::log(2.0), 1e-6);  // the closed form above
+      }
       float maxWeight;
       for (float side : {1.0f, -1.0f}) {  // two-sided: the back face is the front mirrored
         vec3 wo = View(mu) * vec3(1.0f, 1.0f, side);
@@ -167,16 +176,13 @@ TEST(WhiteFurnaceTest, ConductorLosesOnlyWhatSingleScatteringGgxLoses) {
 }
 
 TEST(WhiteFurnaceTest, ConductorAlbedoNeverExceedsOne) {
-  // A denser scan of the quadrature alone (deterministic).
-  for (float roughness : {0.05f, 0.2f, 0.4f, 0.8f, 1.0f}) {
+  // More roughnesses and angles, by the quadrature alone (deterministic).
+  for (float roughness : {0.05f, 0.2f, 0.45f, 0.8f}) {
     Material m = Make(MaterialType::kConductor, vec3(1.0f), 1.5f, roughness);
-    double previous = 2.0;
-    for (float mu = 1.0f; mu > 0.0f; mu -= 0.1f) {
+    for (float mu : {0.9f, 0.6f, 0.3f, 0.1f}) {
       Albedo q = QuadratureAlbedo(m, View(mu), GgxAlpha(roughness));
       EXPECT_LE(q.value, 1.0 + q.error) << "roughness " << roughness << " mu " << mu;
-      // Shadowing and masking only grow towards grazing.
-      EXPECT_LE(q.value, previous + q.error) << "roughness " << roughness << " mu " << mu;
-      previous = q.value;
+      EXPECT_GT(q.value, 0.0) << "roughness " << roughness << " mu " << mu;
     }
   }
 }
@@ -199,30 +205,36 @@ TEST(WhiteFurnaceTest, RoughGlassNeverCreatesEnergy) {
 }
 
 TEST(WhiteFurnaceTest, PlasticReflectsAtMostWhatItReceives) {
+  struct Case {
+    float roughness, ior, mu;
+  };
+  // Smooth at three indices; rough where the overshoot peaks (ior 1.33, roughness 0.3, mu
+  // 0.65: +7.1e-4) and where the coat is roughest.
+  const Case cases[] = {{0.0f, 1.33f, 1.0f}, {0.0f, 1.5f, 0.7f}, {0.0f, 2.0f, 0.3f},
+                        {0.0f, 1.5f, 0.1f},  {0.3f, 1.33f, 0.65f}, {0.3f, 1.33f, 0.2f},
+                        {0.3f, 1.5f, 1.0f},  {1.0f, 1.5f, 1.0f},  {1.0f, 1.5f, 0.3f}};
   uint32_t seed = 200;
-  for (float roughness : {0.0f, 0.3f, 0.6f, 1.0f}) {
-    for (float ior : {1.33f, 1.5f, 2.0f}) {
-      Material m = Make(MaterialType::kPlastic, vec3(1.0f), ior, roughness);
-      bool smooth = IsSmooth(m);
-      for (float mu : {1.0f, 0.7f, 0.3f, 0.1f}) {
-        // Smooth: the delta coat reflects F(mu) exactly; the quadrature sees the base alone.
-        double coat = smooth ? FresnelDielectric(mu, ior) : 0.0;
-        Albedo q = QuadratureAlbedo(m, View(mu), smooth ? 1.0 : GgxAlpha(roughness));
-        double total = coat + q.value;
-        EXPECT_LT(q.error, 2e-5) << "roughness " << roughness << " ior " << ior << " mu " << mu;
-        // Smooth: exactly F + (1 - F) = 1 (fdr_int by reciprocity). Rough: the smooth-coat
-        // transmittance under a rough coat overshoots by at most ~7e-4 (plastic.h).
-        double allowed = smooth ? 2e-5 : 1e-3;
-        EXPECT_LE(total, 1.0 + allowed + q.error)
-            << "roughness " << roughness << " ior " << ior << " mu " << mu;
-        if (smooth) EXPECT_NEAR(total, 1.0, 2e-5 + q.error) << "ior " << ior << " mu " << mu;
-        float maxWeight;
-        test::MeanEstimate e = SampledAlbedo(m, View(mu), seed++, 40000, &maxWeight);
-        // Two-sided CLT test of the sampled weights against the quadrature: 1e-4.
-        EXPECT_NEAR(e.mean, total, kZ1e4 * e.stdError + q.error)
-            << "roughness " << roughness << " ior " << ior << " mu " << mu;
-      }
+  for (const Case& c : cases) {
+    Material m = Make(MaterialType::kPlastic, vec3(1.0f), c.ior, c.roughness);
+    bool smooth = IsSmooth(m);
+    // Smooth: the delta coat reflects F(mu) exactly; the quadrature sees the base alone.
+    double coat = smooth ? FresnelDielectric(c.mu, c.ior) : 0.0;
+    Albedo q = QuadratureAlbedo(m, View(c.mu), smooth ? 1.0 : GgxAlpha(c.roughness));
+    double total = coat + q.value;
+    std::ostringstream what;
+    what << "roughness " << c.roughness << " ior " << c.ior << " mu " << c.mu;
+    EXPECT_LT(q.error, 1e-4) << what.str();
+    if (smooth) {
+      // F + (1 - F) = 1 exactly: fdr_int comes from fdr_ext by reciprocity.
+      EXPECT_NEAR(total, 1.0, 2e-5 + q.error) << what.str();
+    } else {
+      // The smooth-coat transmittance under a rough coat overshoots by at most ~7.1e-4.
+      EXPECT_LE(total, 1.0 + 1e-3 + q.error) << what.str();
     }
+    float maxWeight;
+    test::MeanEstimate e = SampledAlbedo(m, View(c.mu), seed++, 40000, &maxWeight);
+    // Two-sided CLT test of the sampled weights against the quadrature: 1e-4.
+    EXPECT_NEAR(e.mean, total, kZ1e4 * e.stdError + q.error) << what.str();
   }
 }
 

@@ -78,8 +78,10 @@ PT_HDI bool Refract(vec3 wi, vec3 n, float eta, float* etap, vec3* wt) {
 // Fdr for a relative index n >= 1: the closed form of 2 * integral of F(mu) mu dmu (as in
 // d'Eon's "A Hitchhiker's Guide to Multiple Scattering"), accurate to ~3e-6 in float for
 // n >= 1.05. Closer to 1 its terms cancel, so d'Eon and Irving's fit (used by Mitsuba) takes
-// over there; its absolute error is below 2e-4 where Fdr itself is below 0.014.
+// over there; its absolute error is below 2e-4 where Fdr itself is below 0.014. Indices
+// beyond 1e3 (Fdr > 0.99) are clamped so that n^8 stays finite in float.
 PT_HDI float FresnelDiffuseReflectanceAbove1(float n) {
+  n = fminf(n, 1e3f);
   if (n < 1.05f) {
     float x = 1.0f / n;
     return 0.919317f +
