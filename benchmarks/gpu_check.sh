@@ -52,7 +52,8 @@ fi
 if [[ " $STEPS " == *" special "* ]]; then
   step "specialised stage variants against the general one"
   SCENES=""
-  for s in scenes/*.json benchmarks/scenes/bunny_cornell.json benchmarks/scenes/breakfast_room.json; do
+  for s in scenes/*.json benchmarks/scenes/bunny_cornell.json benchmarks/scenes/breakfast_room.json \
+           benchmarks/scenes/breakfast_room_materials.json benchmarks/scenes/duck.json; do
     SCENES="$SCENES --scene $s"
   done
   python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \

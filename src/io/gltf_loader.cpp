@@ -28,10 +28,25 @@ bool CaptureImage(tinygltf::Image* image, const int index, std::string*, std::st
 
 [[noreturn]] void Malformed(const std::string& what) { throw std::runtime_error(what); }
 
-bool HasGlbMagic(const std::string& path) {
+// glTF indices (and sparse indices) are unsigned integers; a float or signed one is malformed.
+bool IsUnsignedIntegerType(int type) {
+  return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
+// A binary glTF (the "glTF" magic); its container version must be 2 (tinygltf reads any).
+bool IsGlb(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  return in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0;
+  unsigned char header[8] = {};
+  if (!in.read(reinterpret_cast<char*>(header), 4) || std::memcmp(header, "glTF", 4) != 0) {
+    return false;
+  }
+  if (!in.read(reinterpret_cast<char*>(header + 4), 4)) Malformed("truncated GLB header");
+  uint32_t version = uint32_t(header[4]) | uint32_t(header[5]) << 8 | uint32_t(header[6]) << 16 |
+                     uint32_t(header[7]) << 24;  // little-endian
+  if (version != 2) Malformed("GLB container version " + std::to_string(version) + " (expected 2)");
+  return true;
 }
 
 tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedImages& images) {
@@ -39,7 +54,7 @@ tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedIm
   loader.SetImageLoader(CaptureImage, &images);
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = HasGlbMagic(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+  bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                               : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) Malformed("cannot load glTF: " + (err.empty() ? "unknown error" : OneLine(err)));
   if (!warn.empty()) sink.Warn("glTF reader: " + OneLine(warn));
@@ -114,7 +129,9 @@ void ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, Acce
                  std::vector<double>& out) {
   const auto& s = a.sparse;
   int indexSize = tinygltf::GetComponentSizeInBytes(uint32_t(s.indices.componentType));
-  if (indexSize <= 0 || s.count < 0) Malformed("an accessor has malformed sparse indices");
+  if (indexSize <= 0 || s.count < 0 || !IsUnsignedIntegerType(s.indices.componentType)) {
+    Malformed("an accessor has malformed sparse indices (not unsigned integers)");
+  }
   size_t elementSize = layout.ElementSize();
   const unsigned char* idx =
       ViewBytes(model, s.indices.bufferView, s.indices.byteOffset, s.count, indexSize, indexSize);
@@ -122,7 +139,7 @@ void ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, Acce
       ViewBytes(model, s.values.bufferView, s.values.byteOffset, s.count, elementSize, elementSize);
   for (int i = 0; i < s.count; ++i) {
     double target = ReadComponent(idx + i * indexSize, s.indices.componentType, false);
-    if (target < 0 || target >= double(a.count)) Malformed("a sparse index is out of range");
+    if (!(target >= 0 && target < double(a.count))) Malformed("a sparse index is out of range");
     for (int c = 0; c < layout.components; ++c) {
       out[size_t(target) * layout.components + c] = ReadComponent(
           val + i * elementSize + c * layout.componentSize, a.componentType, a.normalized);
@@ -176,8 +193,13 @@ std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygl
                                       size_t vertexCount) {
   std::vector<uint32_t> v;
   if (p.indices >= 0) {
+    if (size_t(p.indices) < model.accessors.size() &&
+        !IsUnsignedIntegerType(model.accessors[p.indices].componentType)) {
+      Malformed("index accessor " + std::to_string(p.indices) +
+                " is not of an unsigned integer type");
+    }
     for (double d : ReadAccessor(model, p.indices, 1)) {
-      if (d < 0.0 || d >= double(vertexCount)) {
+      if (!(d >= 0.0 && d < double(vertexCount))) {  // d is an unsigned integer (checked)
         Malformed("index " + std::to_string(uint64_t(d)) + " out of range (" +
                   std::to_string(vertexCount) + " vertices)");
       }
