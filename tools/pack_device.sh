@@ -26,5 +26,11 @@ if [ -d "$SHARED/assets" ]; then
     cp -r "$SHARED/assets/khronos/$m" .device/shared/assets/khronos/
   done
   cp "$SHARED/peer-scenes/"* .device/shared/peer-scenes/
+  # The published references the accuracy study compares with (EXR only).
+  for a in cornell-box-bitterli veach-mis; do
+    mkdir -p ".device/shared/assets/$a/reference"
+    cp "$SHARED/assets/$a/reference/TungstenRender.exr" ".device/shared/assets/$a/reference/"
+    cp "$SHARED/assets/$a/SOURCE.md" ".device/shared/assets/$a/"
+  done
 fi
 du -sh .device
