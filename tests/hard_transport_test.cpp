@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -447,8 +448,9 @@ TEST(HardTransport, PerfectMirrorsInUniformEnvironmentAreExactlyL) {
 // Schlick(0.5, cos) L exactly (the reflected ray escapes a convex or planar mirror), so the
 // pixel's expected value is that averaged over the pixel, computed here on a 32x32 grid of
 // the pixel by intersecting the same camera rays (CameraRay) with the exact shape in double.
-// Acne (a reflected ray re-hitting its own surface) multiplies by another F <= 0.53 and a lost
-// reflection (a ray slipping through the mesh) gives L: both move the pixel far off. Checked:
+// Acne (a reflected ray re-hitting its own surface) multiplies by another F (0.5 to ~0.7 at
+// the angles checked) and a lost reflection (a ray slipping through the mesh) gives L: both
+// move the pixel far off. Checked:
 // pixels whose 32x32 grid rays all hit (silhouette pixels are left out: the grid's coverage
 // error there is not bounded well), each against z standard errors of the film (family of all
 // checked pixels: false alarm 1e-4) plus the midpoint rule's error on the smooth F (bounded

@@ -7,9 +7,14 @@
 // file that is missing, fails the test, so the list and the corpus stay in step.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <typeinfo>
@@ -26,18 +31,27 @@ namespace fs = std::filesystem;
 struct Expected {
   // The field path the message names right after "FILE: ", or "" where no field applies
   // (malformed JSON, a top level that is not an object). A trailing '*' accepts any field
-  // path starting with the rest (for refusals whose exact field is the fix's choice).
+  // path starting with the rest, "*" alone any message at all after "FILE: " (for refusals
+  // whose exact wording is a fix's choice).
   const char* field;
   const char* detail;  // a phrase the message must contain
 };
 
 // Known failures (bugs outside this test's files, described in the hard-cases report):
+//  - deep_nesting_arrays.json (150000 nested arrays, then more keys) crashes the loader with a
+//    stack overflow, in the release build too; deep_nesting_objects.json (30000 nested objects)
+//    does under AddressSanitizer. nlohmann::ordered_json stores an object's members in a
+//    std::vector<std::pair<const std::string, json>>, whose elements are not nothrow-movable,
+//    so every growth of an object's member vector deep-copies the members already parsed -
+//    recursively, a chain of stack frames per nesting level. src/io/scene_json.cpp
+//    (ParseSceneJson) should refuse nesting beyond a fixed depth (scenes need ~6) in its parse
+//    callback, before such a value exists.
 //  - size_1e38_sphere_radius.json, size_1e38_sphere_scale.json, size_1e38_box.json: a sphere of
 //    radius 1e38 (r^2 overflows float) and a box whose face normals cross(u, v) overflow are
 //    accepted and silently vanish from the render; src/io/scene_loader.cpp (ParseSphere) and
 //    src/geometry/box.h (AppendBoxQuads) should refuse them as ParseQuad refuses such quads.
-//  - mesh_glb_bad_version.json: a GLB whose header says container version 1 is read as if it
-//    were version 2; src/io/gltf_loader.cpp should refuse any version but 2.
+// (The GLB container version, NaN and signed index files were known failures until
+// src/io/gltf_loader.cpp checked them; they stay as regression cases.)
 const std::map<std::string, Expected>& Corpus() {
   static const std::map<std::string, Expected> corpus = {
       // Broken JSON.
@@ -59,7 +73,7 @@ const std::map<std::string, Expected>& Corpus() {
       {"leading_zero_number.json", {"", "malformed JSON"}},
       {"single_quoted_strings.json", {"", "malformed JSON"}},
       {"two_top_level_objects.json", {"", "malformed JSON"}},
-      {"deep_nesting_unclosed.json", {"", "malformed JSON"}},
+      {"deep_nesting_unclosed.json", {"*", ""}},
       {"top_level_array.json", {"", "expected an object, got array"}},
       {"top_level_string.json", {"", "expected an object, got string"}},
       {"top_level_number.json", {"", "expected an object, got number"}},
@@ -125,8 +139,9 @@ const std::map<std::string, Expected>& Corpus() {
       {"point_light_negative_intensity.json", {"lights[0].intensity[1]", ">= 0"}},
       {"adaptive_min_spp_exceeds_spp.json", {"render.adaptive.min_spp", "exceeds"}},
       // Deep nesting (a recursive parser or reader would overflow the stack).
-      {"deep_nesting_arrays.json", {"background", "expected an array of 3 numbers"}},
-      {"deep_nesting_objects.json", {"render.deep", "unknown field"}},
+      {"deep_nesting_arrays.json", {"background*", ""}},            // known failure (crash)
+      {"deep_nesting_objects.json", {"render.deep*", ""}},          // known failure (ASan)
+      {"deep_nesting_in_vector.json", {"objects[0].center[1]*", ""}},
       // Unknown names and inconsistent values.
       {"unknown_top_level_field.json", {"objekts", "unknown field"}},
       {"unknown_render_field.json", {"render.samples", "unknown field"}},
@@ -155,13 +170,16 @@ const std::map<std::string, Expected>& Corpus() {
       {"mesh_file_wrong_type.json", {"objects[0].file", "expected a string"}},
       {"mesh_truncated_glb.json", {"objects[0].file", "truncated.glb"}},
       {"mesh_header_only_glb.json", {"objects[0].file", "header_only.glb"}},
-      {"mesh_glb_bad_version.json", {"objects[0].file", "bad_version.glb"}},  // known failure
+      {"mesh_glb_bad_version.json", {"objects[0].file", "bad_version.glb"}},
       {"mesh_glb_garbage_json_chunk.json", {"objects[0].file", "garbage_json_chunk.glb"}},
       {"mesh_glb_chunk_length_overflow.json", {"objects[0].file", "chunk_length_overflow.glb"}},
       {"mesh_glb_total_length_too_large.json", {"objects[0].file", "total_length_too_large.glb"}},
       {"mesh_glb_index_out_of_range.json", {"objects[0].file", "index_out_of_range.glb"}},
       {"mesh_glb_accessor_past_end.json", {"objects[0].file", "accessor_past_end.glb"}},
       {"mesh_glb_view_past_buffer.json", {"objects[0].file", "view_past_buffer.glb"}},
+      {"mesh_glb_negative_index.json", {"objects[0].file", "negative_index.glb"}},
+      {"mesh_glb_nan_index.json", {"objects[0].file", "nan_index.glb"}},
+      {"mesh_glb_sparse_nan_index.json", {"objects[0].file", "sparse_nan_index.glb"}},
       {"mesh_gltf_missing_bin.json", {"objects[0].file", "missing_bin.gltf"}},
       {"mesh_gltf_not_json.json", {"objects[0].file", "not_json.gltf"}},
       {"mesh_gltf_empty_object.json", {"objects[0].file", "empty_object.gltf"}},
@@ -215,25 +233,76 @@ TEST(MalformedScenes, CorpusMatchesItsList) {
   EXPECT_GE(files.size(), 100u);
 }
 
+// What loading a file did, observed from a child process so that a crash (a known bug must
+// not take the whole test binary down) is reported as a failure of its file.
+struct Outcome {
+  enum Kind { kSceneError, kAccepted, kOtherException, kCrashed } kind = kCrashed;
+  std::string message;
+};
+
+Outcome InChild(const std::function<Outcome()>& load) {
+  int fds[2];
+  if (pipe(fds) != 0) return {Outcome::kCrashed, "pipe() failed"};
+  std::fflush(nullptr);
+  pid_t pid = fork();
+  if (pid < 0) return {Outcome::kCrashed, "fork() failed"};
+  if (pid == 0) {
+    close(fds[0]);
+    Outcome o = load();
+    std::string out = std::string(1, char('0' + o.kind)) + o.message;
+    for (size_t done = 0; done < out.size();) {
+      ssize_t n = write(fds[1], out.data() + done, out.size() - done);
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof(buffer))) > 0;) text.append(buffer, size_t(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFSIGNALED(status)) return {Outcome::kCrashed, "killed by signal " + std::to_string(WTERMSIG(status))};
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || text.empty())
+    return {Outcome::kCrashed, "exited with status " + std::to_string(WEXITSTATUS(status)) +
+                                   " (a sanitizer report or an abort: see the log)"};
+  return {Outcome::Kind(text[0] - '0'), text.substr(1)};
+}
+
+Outcome Classify(const std::function<void()>& load) {
+  try {
+    load();
+    return {Outcome::kAccepted, ""};
+  } catch (const SceneError& e) {
+    return {Outcome::kSceneError, e.what()};
+  } catch (const std::exception& e) {
+    return {Outcome::kOtherException, std::string(typeid(e).name()) + ": " + e.what()};
+  } catch (...) {
+    return {Outcome::kOtherException, "a non-standard exception"};
+  }
+}
+
+void CheckOutcome(const std::string& name, const std::string& label, const Outcome& o) {
+  switch (o.kind) {
+    case Outcome::kSceneError: CheckMessage(label, Corpus().at(name), o.message); break;
+    case Outcome::kAccepted: ADD_FAILURE() << name << " was accepted"; break;
+    case Outcome::kOtherException: ADD_FAILURE() << name << ": not a SceneError but " << o.message; break;
+    case Outcome::kCrashed: ADD_FAILURE() << name << ": the loader crashed: " << o.message; break;
+  }
+}
+
 // LoadScene on each file (and BuildScene, were one accepted): a SceneError naming the file and
-// the field, never another exception. Each file separately, so one failure names its file.
+// the field, never another exception or a crash.
 TEST(MalformedScenes, EveryFileIsASceneErrorNamingFileAndField) {
   for (const std::string& name : CorpusFiles()) {
     SCOPED_TRACE(name);
-    auto it = Corpus().find(name);
-    if (it == Corpus().end()) continue;  // reported by CorpusMatchesItsList
+    if (!Corpus().count(name)) continue;  // reported by CorpusMatchesItsList
     std::string path = CorpusDir() + "/" + name;
-    try {
-      SceneDesc desc = LoadScene(path);
-      Scene scene = BuildScene(std::move(desc));
-      ADD_FAILURE() << name << " was accepted (" << scene.PrimitiveCount() << " primitives)";
-    } catch (const SceneError& e) {
-      CheckMessage(path, it->second, e.what());
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << name << ": not a SceneError but " << typeid(e).name() << ": " << e.what();
-    } catch (...) {
-      ADD_FAILURE() << name << ": a non-standard exception";
-    }
+    CheckOutcome(name, path, InChild([&] {
+      return Classify([&] { BuildScene(LoadScene(path)); });
+    }));
   }
 }
 
@@ -242,20 +311,14 @@ TEST(MalformedScenes, EveryFileIsASceneErrorNamingFileAndField) {
 TEST(MalformedScenes, FromStringGivesTheSameErrors) {
   for (const std::string& name : CorpusFiles()) {
     SCOPED_TRACE(name);
-    auto it = Corpus().find(name);
-    if (it == Corpus().end()) continue;
+    if (!Corpus().count(name)) continue;
     std::ifstream in(CorpusDir() + "/" + name, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
     std::string label = "corpus/" + name;
-    try {
-      BuildScene(LoadSceneFromString(text.str(), label, CorpusDir()));
-      ADD_FAILURE() << name << " was accepted";
-    } catch (const SceneError& e) {
-      CheckMessage(label, it->second, e.what());
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << name << ": not a SceneError but " << e.what();
-    }
+    CheckOutcome(name, label, InChild([&] {
+      return Classify([&] { BuildScene(LoadSceneFromString(text.str(), label, CorpusDir())); });
+    }));
   }
 }
 

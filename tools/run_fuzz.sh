@@ -6,10 +6,12 @@
 #
 # Builds build-fuzz/scene_loader_fuzz with clang++-14 -fsanitize=fuzzer,address,undefined from
 # the loader's sources (src/io, src/scene, src/geometry, src/lights; the Debian tinygltf,
-# tinyobjloader and tinyexr libraries are linked as they are), seeds it from tests/malformed/
-# and scenes/ (scenes and meshes), and runs it. New interesting inputs go to build-fuzz/corpus
-# (kept between runs); a crashing, leaking or hanging input is saved under
-# build-fuzz/artifacts/ and the script exits non-zero. Exit 0 means no finding in the time.
+# tinyobjloader and tinyexr libraries are linked as they are), replays every seed file of
+# tests/malformed/ and scenes/ (scenes and meshes) once at full size, then fuzzes from those
+# seeds for the given time with inputs up to 16 KiB. New interesting inputs go to
+# build-fuzz/corpus (kept between runs); a crashing, leaking or hanging input is saved under
+# build-fuzz/artifacts/. Exits non-zero when a seed or a fuzzed input is a finding; 0 means
+# none in the time.
 #
 # Needs the Debian packages clang-14 and libclang-rt-14-dev.
 set -euo pipefail
@@ -97,23 +99,38 @@ DICT="$OUT/scene.dict"
 DICT_END
 } > "$DICT"
 
-# ---- Run ----
+# ---- Replay every seed at full size (the fuzzing below truncates inputs to -max_len) ----
+export PT_FUZZ_BASE_DIR="$BASE"
+export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:${ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 SEEDS=("$ROOT/tests/malformed" "$ROOT/scenes")
+FINDINGS=0
+: > "$OUT/replay.log"
+while IFS= read -r -d '' seed; do
+  if ! "$OUT/scene_loader_fuzz" -timeout=60 -rss_limit_mb=2560 "$seed" >> "$OUT/replay.log" 2>&1; then
+    echo "run_fuzz: FINDING on seed ${seed#$ROOT/}" >&2
+    FINDINGS=$((FINDINGS + 1))
+  fi
+done < <(find "${SEEDS[@]}" -type f -print0 | sort -z)
+echo "run_fuzz: replayed $(find "${SEEDS[@]}" -type f | wc -l) seeds, $FINDINGS findings (log: $OUT/replay.log)"
+
+# ---- Fuzz ----
 echo "run_fuzz: fuzzing for $SECONDS_TO_RUN s, seeds: tests/malformed, scenes"
 set +e
-PT_FUZZ_BASE_DIR="$BASE" \
-ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:${ASAN_OPTIONS:-}" \
-UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}" \
-  "$OUT/scene_loader_fuzz" "$OUT/corpus" "${SEEDS[@]}" \
-    -max_total_time="$SECONDS_TO_RUN" -timeout=20 -rss_limit_mb=2560 -max_len=16384 \
-    -dict="$DICT" -artifact_prefix="$OUT/artifacts/" -print_final_stats=1 \
-    > "$OUT/fuzz.log" 2>&1
+"$OUT/scene_loader_fuzz" "$OUT/corpus" "${SEEDS[@]}" \
+  -max_total_time="$SECONDS_TO_RUN" -timeout=20 -rss_limit_mb=2560 -max_len=16384 \
+  -dict="$DICT" -artifact_prefix="$OUT/artifacts/" -print_final_stats=1 \
+  > "$OUT/fuzz.log" 2>&1
 STATUS=$?
 set -e
-grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss_mb|cov:" "$OUT/fuzz.log" | tail -n 4 || true
+grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss_mb" "$OUT/fuzz.log" | tail -n 3 || true
 if [ "$STATUS" -ne 0 ]; then
-  echo "run_fuzz: FINDING (libFuzzer exit status $STATUS); log: $OUT/fuzz.log" >&2
+  echo "run_fuzz: FINDING while fuzzing (libFuzzer exit status $STATUS); log: $OUT/fuzz.log" >&2
   grep -E "ERROR|SUMMARY|runtime error|terminate|deadly|Test unit written" "$OUT/fuzz.log" | head -n 20 >&2 || true
+  FINDINGS=$((FINDINGS + 1))
+fi
+if [ "$FINDINGS" -ne 0 ]; then
+  echo "run_fuzz: $FINDINGS finding(s)" >&2
   exit 1
 fi
-echo "run_fuzz: no finding in $SECONDS_TO_RUN s ($(grep -o 'stat::number_of_executed_units: [0-9]*' "$OUT/fuzz.log" | grep -o '[0-9]*$' || echo '?') inputs)"
+echo "run_fuzz: no finding ($(grep -o 'stat::number_of_executed_units: [0-9]*' "$OUT/fuzz.log" | grep -o '[0-9]*$' || echo '?') inputs in $SECONDS_TO_RUN s)"

@@ -37,7 +37,8 @@ inline void AppendBoxQuads(vec3 lo, vec3 hi, const glm::mat4& objectToWorld,
       q.v = vec3(glm::dvec3(m * glm::dvec4(v, 0.0)));
       if (mirrored) std::swap(q.u, q.v);
       vec3 n = glm::cross(q.u, q.v);
-      if (!(glm::dot(n, n) > 0.0f)) continue;
+      float nn = glm::dot(n, n);  // zero for a flat face, inf when the face's size overflows
+      if (!(nn > 0.0f) || !std::isfinite(nn) || !IsFinite(q.origin)) continue;
       out.push_back(q);
     }
   }

@@ -112,8 +112,10 @@ PT_HDI bool IntersectTriangle(const Triangle& tri, const Ray& ray, const Triangl
   float maxXt = detail::MaxAbs(p0t.x, p1t.x, p2t.x);
   float maxYt = detail::MaxAbs(p0t.y, p1t.y, p2t.y);
   float deltaZ = Gamma(3) * maxZt;
-  float deltaX = Gamma(5) * (maxXt + maxZt);
-  float deltaY = Gamma(5) * (maxYt + maxZt);
+  // The shear adds s_x * z = -d_x * (z scaled): bound that term by |d_x| maxZt, not maxZt
+  // (pbrt-v4's looser bound rejects real hits of grazing rays on small, distant triangles).
+  float deltaX = Gamma(5) * (maxXt + fabsf(rd.sx / rd.sz) * maxZt);
+  float deltaY = Gamma(5) * (maxYt + fabsf(rd.sy / rd.sz) * maxZt);
   float deltaE = 2.0f * (Gamma(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
   float maxE = detail::MaxAbs(e0, e1, e2);
   float deltaT = 3.0f * (Gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * fabsf(invDet);

@@ -72,10 +72,18 @@ std::string Range::Describe() const {
          (hiOpen ? ")" : "]");
 }
 
+// Scenes nest ~6 deep. nlohmann copies (ordered_map growth) and compares values recursively,
+// so a deeper value is refused before it can exhaust the stack.
+constexpr size_t kMaxNesting = 128;
+
 Json ParseSceneJson(const std::string& text, const std::string& file) {
   std::vector<ParseFrame> frames;
-  auto elementStarts = [&frames] {
+  auto elementStarts = [&frames, &file] {
     if (!frames.empty() && !frames.back().isObject) frames.back().index++;
+    if (frames.size() >= kMaxNesting) {
+      FailAt(file, FramesPath(frames, 8) + (frames.size() > 8 ? "..." : ""),
+             "nested more than " + std::to_string(kMaxNesting) + " levels deep");
+    }
   };
   Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
     switch (event) {

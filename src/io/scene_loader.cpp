@@ -176,7 +176,9 @@ void ParseSphere(const JsonObject& o, LoadState& state) {
            "a sphere accepts only a uniform scale (the same factor on every axis)");
   }
   Sphere s{vec3(m * vec4(center, 1.0f)), radius * scale};
-  if (!IsFinite(s.center) || !(s.radius > 0.0f) || !std::isfinite(s.radius)) {
+  vec3 reach = Abs(s.center) + vec3(s.radius);  // intersection squares |o - c| and r
+  if (!IsFinite(s.center) || !(s.radius > 0.0f) || !std::isfinite(s.radius) ||
+      !std::isfinite(glm::dot(reach, reach))) {
     o.Fail("radius", "the transformed sphere is degenerate or not finite");
   }
   state.scene.spheres.push_back(s);
