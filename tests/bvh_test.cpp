@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/icosphere.h"
+
 #include <cmath>
 #include <ctime>
 #include <map>
@@ -356,32 +358,8 @@ TEST(BvhTraversal, DeepAndDepthCappedTreesMatchBruteForce) {
 
 // Closed meshes with shared vertices: a subdivided icosphere and a tessellated cube.
 void AddIcosphere(TestScene* scene, vec3 center, float radius, int subdivisions) {
-  const float g = 1.61803398875f;
-  std::vector<vec3> v = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
-                         {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
-  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (vec3& p : v) p = glm::normalize(p);
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back(glm::normalize(v[a] + v[b]));
-      return mid[key] = uint32_t(v.size() - 1);
-    };
-    std::vector<glm::uvec3> next;
-    for (glm::uvec3 t : f) {
-      uint32_t a = midpoint(t.x, t.y), b = midpoint(t.y, t.z), c = midpoint(t.z, t.x);
-      next.insert(next.end(), {{t.x, a, c}, {t.y, b, a}, {t.z, c, b}, {a, b, c}});
-    }
-    f = next;
-  }
-  for (vec3& p : v) p = center + radius * p;
-  for (glm::uvec3 t : f) scene->triangles.push_back(Triangle{v[t.x], v[t.y], v[t.z]});
+  for (const Triangle& t : test::IcosphereTriangles(glm::dvec3(center), radius, subdivisions))
+    scene->triangles.push_back(t);
 }
 
 void AddTessellatedCube(TestScene* scene, vec3 center, float half, int n) {

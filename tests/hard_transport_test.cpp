@@ -14,6 +14,8 @@
 // every pixel finite.
 #include <gtest/gtest.h>
 
+#include "tests/icosphere.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -364,35 +366,7 @@ TEST(HardTransport, AreaLitRoomRendersTheSameAtScales1em4To1e5) {
 // ---- Self-intersection: mirrors and glass ----
 
 std::vector<Triangle> Icosphere(dvec3 center, double radius, int subdivisions) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<dvec3> v = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  for (dvec3& p : v) p = glm::normalize(p);
-  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-    auto middle = [&](uint32_t a, uint32_t b) {
-      auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back(glm::normalize(v[a] + v[b]));
-      return mid[key] = uint32_t(v.size() - 1);
-    };
-    std::vector<glm::uvec3> next;
-    for (glm::uvec3 tri : f) {
-      uint32_t a = middle(tri.x, tri.y), b = middle(tri.y, tri.z), c = middle(tri.z, tri.x);
-      next.insert(next.end(), {{tri.x, a, c}, {tri.y, b, a}, {tri.z, c, b}, {a, b, c}});
-    }
-    f = next;
-  }
-  std::vector<vec3> vf;
-  for (dvec3 p : v) vf.push_back(vec3(center + radius * p));
-  std::vector<Triangle> out;  // counter-clockwise seen from outside: normals point out
-  for (glm::uvec3 tri : f) out.push_back(Triangle{vf[tri.x], vf[tri.y], vf[tri.z]});
-  return out;
+  return test::IcosphereTriangles(center, radius, subdivisions);
 }
 
 // The scene of a JSON file plus flat-shaded triangles of material index `material`.

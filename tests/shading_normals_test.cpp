@@ -3,44 +3,21 @@
 // the facets) with exact sphere normals at its vertices makes the disagreement large.
 #include <gtest/gtest.h>
 
-#include <map>
 
 #include "src/io/scene_loader.h"
+#include "tests/icosphere.h"
 #include "tests/render_test_util.h"
 
 namespace pt::test {
 namespace {
 
-// Icosphere of radius r: subdivisions of an icosahedron, vertices on the sphere, normals
-// radial (what a smooth-shaded export carries).
+// Icosphere of radius r with radial vertex normals (what a smooth-shaded export carries).
 void AddIcosphere(SceneDesc& d, vec3 centre, float r, int subdivisions, uint32_t material) {
-  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  std::vector<vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                               {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                               {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                               {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (vec3& p : v) p = glm::normalize(p);
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back(glm::normalize(v[a] + v[b]));
-      return mid[key] = uint32_t(v.size() - 1);
-    };
-    std::vector<glm::uvec3> next;
-    for (auto tri : f) {
-      uint32_t a = midpoint(tri.x, tri.y), b = midpoint(tri.y, tri.z), c = midpoint(tri.z, tri.x);
-      next.insert(next.end(), {{tri.x, a, c}, {tri.y, b, a}, {tri.z, c, b}, {a, b, c}});
-    }
-    f = next;
-  }
-  for (auto tri : f) {
-    d.triangles.push_back({centre + r * v[tri.x], centre + r * v[tri.y], centre + r * v[tri.z]});
-    d.triangleNormals.push_back({v[tri.x], v[tri.y], v[tri.z]});
+  UnitIcosphere m = MakeUnitIcosphere(subdivisions);
+  auto at = [&](uint32_t i) { return centre + r * vec3(m.vertices[i]); };
+  for (glm::uvec3 f : m.faces) {
+    d.triangles.push_back({at(f.x), at(f.y), at(f.z)});
+    d.triangleNormals.push_back({vec3(m.vertices[f.x]), vec3(m.vertices[f.y]), vec3(m.vertices[f.z])});
     d.triangleMaterials.push_back(material);
   }
 }
