@@ -20,15 +20,7 @@ using test::kZ1e4;
 constexpr double kAlpha = 1e-4;
 constexpr double kRoundOff = 1e-5;  // relative float round-off allowance on irradiance means
 
-struct Uniform {
-  std::mt19937 rng;
-  explicit Uniform(uint32_t seed) : rng(seed) {}
-  float operator()() { return float(rng() >> 8) * 0x1p-24f; }  // 24 bits: [0, 1), never 1
-  vec2 Get2() {
-    float a = (*this)();
-    return vec2(a, (*this)());
-  }
-};
+using test::Uniform;
 
 // A scene built by hand (no BVH: prims in insertion order) with a real light table.
 struct LightScene {

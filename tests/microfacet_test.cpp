@@ -24,15 +24,7 @@ using test::kZ1e4;
 
 constexpr double kAlpha = 1e-4;  // per-assertion false-alarm probability
 
-struct Uniform {
-  std::mt19937 rng;
-  explicit Uniform(uint32_t seed) : rng(seed) {}
-  float operator()() { return float(rng() >> 8) * 0x1p-24f; }  // [0, 1), never 1
-  vec2 Get2() {
-    float a = (*this)();
-    return vec2(a, (*this)());
-  }
-};
+using test::Uniform;
 
 vec3 Spherical(double theta, double phi) { return test::SphericalToDirection(theta, phi); }
 

@@ -7,6 +7,8 @@
 // Each test returns a p-value; asserting p > alpha has false-alarm probability alpha.
 #pragma once
 
+#include <random>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +21,18 @@
 #include "src/core/math.h"
 
 namespace pt::test {
+
+// Fixed-seed uniform numbers in [0, 1) with 24 random bits (never 1), as the renderer's own.
+struct Uniform {
+  std::mt19937 rng;
+  explicit Uniform(uint32_t seed) : rng(seed) {}
+  float operator()() { return float(rng() >> 8) * 0x1p-24f; }
+  vec2 Get2() {
+    float a = (*this)();
+    return vec2(a, (*this)());
+  }
+};
+
 
 // ---- Regularised incomplete gamma (Numerical Recipes 6.2: series / Lentz continued fraction)
 

@@ -33,15 +33,7 @@ namespace {
 
 using test::kZ1e4;
 
-struct Uniform {
-  std::mt19937 rng;
-  explicit Uniform(uint32_t seed) : rng(seed) {}
-  float operator()() { return float(rng() >> 8) * 0x1p-24f; }  // [0, 1), never 1
-  vec2 Get2() {
-    float a = (*this)();
-    return vec2(a, (*this)());
-  }
-};
+using test::Uniform;
 
 Material Make(MaterialType type, vec3 albedo, float ior, float roughness) {
   Material m;
