@@ -36,7 +36,7 @@ std::string CpuBackend::DeviceName() const {
 RenderResult RenderCpu(const Scene& scene, const RenderOptions& options,
                        const RenderCallbacks& callbacks) {
   CpuBackend backend(options.threads);
-  FlagChoice flags = ChooseFlags(scene, options, /*gpu=*/false);
+  FlagChoice flags = ChooseFlags(options);
   WavefrontIntegrator<CpuBackend> integrator(backend, scene, options, callbacks, flags.compact,
                                              flags.sort);
   return integrator.Render();

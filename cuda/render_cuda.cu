@@ -59,7 +59,7 @@ void CudaBackend::Synchronize() {
 RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
                         const RenderCallbacks& callbacks) {
   CudaBackend backend;
-  FlagChoice flags = ChooseFlags(scene, options, /*gpu=*/true);
+  FlagChoice flags = ChooseFlags(options);
   WavefrontIntegrator<CudaBackend> integrator(backend, scene, options, callbacks, flags.compact,
                                               flags.sort);
   return integrator.Render();

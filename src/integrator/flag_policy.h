@@ -1,4 +1,6 @@
-// What `auto` means for --compact and --sort, per backend and scene.
+// What `auto` means for --compact and --sort. Measured (benchmarks/RESULTS.md): compaction on
+// and sorting off is the fastest fixed setting on every benchmark scene on the GPU, so `auto`
+// is that everywhere; a per-scene choice would need a scene where the ranking changes.
 #pragma once
 
 #include "src/integrator/render_api.h"
@@ -10,6 +12,6 @@ struct FlagChoice {
   bool sort;
 };
 
-FlagChoice ChooseFlags(const Scene& scene, const RenderOptions& options, bool gpu);
+FlagChoice ChooseFlags(const RenderOptions& options);
 
 }  // namespace pt
