@@ -45,6 +45,16 @@ inline WindowMean MeanOverImage(const FilmImage& img, int c) {
   return MeanOverWindow(img, c, 0, 0, img.width, img.height);
 }
 
+// z with P(|Z| > z) = p, by bisection on erfc (for Bonferroni splits of a false-alarm budget).
+inline double TwoSidedNormalQuantile(double p) {
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 // Two-sided normal quantiles: z such that P(|Z| > z) = p.
 constexpr double kZ1e4 = 3.8906;   // p = 1e-4
 constexpr double kZ1e5 = 4.4172;   // p = 1e-5

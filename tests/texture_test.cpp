@@ -137,16 +137,6 @@ TEST(Srgb, DecodeIsTheExactEotf) {
   }
 }
 
-// z with P(|Z| > z) = p, by bisection on erfc.
-double TwoSidedNormalQuantile(double p) {
-  double lo = 0.0, hi = 40.0;
-  for (int i = 0; i < 200; ++i) {
-    double mid = 0.5 * (lo + hi);
-    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
 // A square of side 2 at z = 0 facing +z, textured with a 2 x 2 checker of 8 x 8 texels (so
 // bilinear blending stays within half a texel of the block edges), fills a 64 x 64 image
 // exactly; the environment is uniform white (radiance 1) and the material diffuse with albedo
@@ -181,7 +171,7 @@ TEST(TextureRender, CheckerQuadrantsShowTheirTexelColours) {
   // 12 comparisons (4 quadrants x 3 channels), each at false-alarm probability 1e-4 / 12: the
   // test fails by chance with probability <= 1e-4 (Bonferroni). Windows keep 2 pixels off the
   // image edge and 5 off the centre lines (the blend zone is 2 pixels wide on each side).
-  const double z = TwoSidedNormalQuantile(1e-4 / 12.0);
+  const double z = test::TwoSidedNormalQuantile(1e-4 / 12.0);
   const int lo[2] = {2, size / 2 + 5}, hi[2] = {size / 2 - 5, size - 2};
   for (int q = 0; q < 4; ++q) {
     int qx = q % 2, qy = q / 2;
