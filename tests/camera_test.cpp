@@ -44,7 +44,9 @@ TEST(Camera, ThinLensFocusesEveryLensPointOnTheFocusPlane) {
       vec3 p = r.o + r.d * ((r.o.z - 2.0f) / -r.d.z);
       if (k == 0) focus = p;
       EXPECT_NEAR(glm::length(p - focus), 0.0f, 1e-5f) << "pixel " << px << " lens " << k;
-      if (k == 15) EXPECT_GT(glm::length(r.o - cam.position), 0.05f);  // the lens is open
+      if (k == 15) {
+        EXPECT_GT(glm::length(r.o - cam.position), 0.05f);  // the lens is open
+      }
     }
   }
 }

@@ -85,17 +85,6 @@ T ParseChoice(ValueSource& src, std::initializer_list<std::pair<const char*, T>>
   throw CliError(what + " is not built yet");
 }
 
-// Values accepted for an option whose other values belong to a later feature.
-void AcceptOnly(ValueSource& src, const std::string& accepted,
-                std::initializer_list<const char*> later) {
-  std::string text = src.Take();
-  if (text == accepted) return;
-  for (const char* name : later) {
-    if (text == name) NotBuilt(src.Option() + " " + text);
-  }
-  throw CliError("bad value for " + src.Option() + ": '" + text + "'");
-}
-
 CropWindow ParseCrop(ValueSource& src) {
   std::vector<std::string> parts;
   std::string first = src.Take();

@@ -13,11 +13,6 @@ using Json = nlohmann::ordered_json;
 
 double Mean(uint64_t total, uint64_t count) { return count ? double(total) / count : 0.0; }
 
-bool HasLight(const Scene& scene, LightType type) {
-  return std::any_of(scene.lights.begin(), scene.lights.end(),
-                     [type](const Light& light) { return light.type == type; });
-}
-
 Json SceneJson(const Scene& scene) {
   return Json{{"triangles", scene.TriangleCount()},
               {"primitives", scene.PrimitiveCount()},
