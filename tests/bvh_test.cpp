@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/stat_test_util.h"
+
 #include "tests/icosphere.h"
 
 #include <cmath>
@@ -16,13 +18,7 @@
 namespace pt {
 namespace {
 
-vec3 RandomUnit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  vec3 v;
-  do v = vec3(g(rng), g(rng), g(rng));
-  while (glm::dot(v, v) < 1e-6f);
-  return glm::normalize(v);
-}
+using test::RandomUnit;
 
 // Shapes plus their BVH, and a SceneView over them (as BuildScene would make one).
 struct TestScene {

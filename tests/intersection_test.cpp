@@ -2,6 +2,8 @@
 // re-intersection of rays spawned with OffsetRayOrigin.
 #include <gtest/gtest.h>
 
+#include "tests/stat_test_util.h"
+
 #include <random>
 
 #include "src/geometry/box.h"
@@ -14,13 +16,7 @@ using glm::dvec3;
 
 Ray RayTowards(vec3 o, vec3 target) { return Ray{o, glm::normalize(target - o)}; }
 
-vec3 RandomUnit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  vec3 v;
-  do v = vec3(g(rng), g(rng), g(rng));
-  while (glm::dot(v, v) < 1e-6f);
-  return glm::normalize(v);
-}
+using test::RandomUnit;
 
 // True when every axis of |p - exact| is within pError.
 bool ErrorBoxContains(const SurfaceInteraction& si, dvec3 exact) {

@@ -53,23 +53,7 @@ struct LightScene {
   }
   void Build() {
     BuildLightTable(scene);
-    const SceneDesc& d = scene.desc;
-    view.prims = scene.prims.data();
-    view.primCount = uint32_t(scene.prims.size());
-    view.quads = d.quads.data();
-    view.triangles = d.triangles.data();
-    view.triangleNormals = d.triangleNormals.data();
-    view.spheres = d.spheres.data();
-    view.materials = d.materials.data();
-    view.materialCount = uint32_t(d.materials.size());
-    view.lights = scene.lights.data();
-    view.lightPmf = scene.lightPmf.data();
-    view.lightCdf = scene.lightCdf.data();
-    view.lightCount = uint32_t(scene.lights.size());
-    view.backgroundLight = scene.backgroundLight;
-    view.background = d.background;
-    view.sceneCenter = scene.sceneCenter;
-    view.sceneRadius = scene.sceneRadius;
+    view = HostSceneView(scene);  // no BVH: light sampling never traverses
   }
 };
 

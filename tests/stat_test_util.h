@@ -22,6 +22,15 @@
 
 namespace pt::test {
 
+// A uniformly distributed unit vector (normalised Gaussian triple).
+inline vec3 RandomUnit(std::mt19937& rng) {
+  std::normal_distribution<float> g;
+  vec3 v;
+  do v = vec3(g(rng), g(rng), g(rng));
+  while (glm::dot(v, v) < 1e-6f);
+  return glm::normalize(v);
+}
+
 // Fixed-seed uniform numbers in [0, 1) with 24 random bits (never 1), as the renderer's own.
 struct Uniform {
   std::mt19937 rng;
