@@ -20,6 +20,10 @@ class CpuBackend {
    public:
     void Resize(size_t n) { data_.resize(n); }
     void Upload(const std::vector<T>& src) { data_ = src; }
+    void UploadBytes(const void* src, size_t bytes) {
+      data_.resize((bytes + sizeof(T) - 1) / sizeof(T));
+      if (bytes) std::memcpy(data_.data(), src, bytes);
+    }
     void Download(std::vector<T>& dst) const { dst = data_; }
     void Zero() { std::fill(data_.begin(), data_.end(), T{}); }
     T* Data() { return data_.empty() ? nullptr : data_.data(); }
@@ -30,6 +34,9 @@ class CpuBackend {
    private:
     std::vector<T> data_;
   };
+
+  // The stages run on the host: scene arrays are read in place, never copied.
+  static constexpr bool kHostMemory = true;
 
   explicit CpuBackend(int threads) : pool_(threads) {}
 

@@ -28,6 +28,8 @@ class CudaBackend {
   template <typename T>
   using Buffer = DeviceBuffer<T>;
 
+  static constexpr bool kHostMemory = false;  // scene arrays are copied to the device
+
   CudaBackend();
   ~CudaBackend();
 

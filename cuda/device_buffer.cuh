@@ -40,6 +40,11 @@ class DeviceBuffer {
     Resize(src.size());
     if (size_) CudaCheck(cudaMemcpy(data_, src.data(), Bytes(), cudaMemcpyHostToDevice), "upload");
   }
+  // Raw bytes into a buffer of ceil(bytes / sizeof(T)) elements (scene arrays of any type).
+  void UploadBytes(const void* src, size_t bytes) {
+    Resize((bytes + sizeof(T) - 1) / sizeof(T));
+    if (bytes) CudaCheck(cudaMemcpy(data_, src, bytes, cudaMemcpyHostToDevice), "upload");
+  }
   void Download(std::vector<T>& dst) const {
     dst.resize(size_);
     if (size_) CudaCheck(cudaMemcpy(dst.data(), data_, Bytes(), cudaMemcpyDeviceToHost), "download");

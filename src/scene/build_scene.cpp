@@ -73,24 +73,15 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
 }
 
 SceneView HostSceneView(const Scene& scene) {
+  const Scene& s = scene;
   const SceneDesc& d = scene.desc;
   SceneView v;
-  v.nodes = scene.nodes.data();
-  v.prims = scene.prims.data();
-  v.triangles = d.triangles.data();
-  v.triangleNormals = d.triangleNormals.data();
-  v.quads = d.quads.data();
-  v.spheres = d.spheres.data();
-  v.triangleUvs = d.triangleUvs.empty() ? nullptr : d.triangleUvs.data();
-  v.textures = d.textures.data();
-  v.texels = d.texels.data();
+#define PT_SCENE_ARRAY_HOST(Type, name, host) v.name = (host).empty() ? nullptr : (host).data();
+  PT_SCENE_ARRAYS(PT_SCENE_ARRAY_HOST)
+#undef PT_SCENE_ARRAY_HOST
   v.nodeCount = uint32_t(scene.nodes.size());
   v.primCount = uint32_t(scene.prims.size());
-  v.materials = d.materials.data();
   v.materialCount = uint32_t(d.materials.size());
-  v.lights = scene.lights.data();
-  v.lightPmf = scene.lightPmf.data();
-  v.lightCdf = scene.lightCdf.data();
   v.lightCount = uint32_t(scene.lights.size());
   v.backgroundLight = scene.backgroundLight;
   v.background = d.background;

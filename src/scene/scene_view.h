@@ -6,27 +6,36 @@
 
 namespace pt {
 
+// The one list of scene arrays. X(Type, name, host) declares SceneView::name, a `const Type*`
+// the stages read, and names `host`, the std::vector<Type> of a Scene `s` that holds it.
+// SceneView, HostSceneView, SceneBuffers and UploadScene all expand this list, so adding an
+// array is one line here (and its vector in the Scene). An empty array is a null pointer.
+#define PT_SCENE_ARRAYS(X)                                                                   \
+  /* Geometry, in BVH order where it matters. */                                            \
+  X(BvhNode, nodes, s.nodes)                                                                \
+  X(PrimRef, prims, s.prims)                                                                \
+  X(Triangle, triangles, s.desc.triangles)                                                  \
+  X(TriangleNormals, triangleNormals, s.desc.triangleNormals)                               \
+  X(TriangleUvs, triangleUvs, s.desc.triangleUvs) /* null when no mesh has UVs */           \
+  X(Quad, quads, s.desc.quads)                                                              \
+  X(Sphere, spheres, s.desc.spheres)                                                        \
+  /* Appearance and light. */                                                               \
+  X(Material, materials, s.desc.materials)                                                  \
+  X(Texture, textures, s.desc.textures)                                                     \
+  X(vec3, texels, s.desc.texels)                                                            \
+  X(Light, lights, s.lights)                                                                \
+  X(float, lightPmf, s.lightPmf) /* probability of choosing each light */                   \
+  X(float, lightCdf, s.lightCdf) /* lightCount + 1 entries, [0] = 0, last = 1 */
+
 struct SceneView {
-  // Geometry, in BVH order where it matters.
-  const BvhNode* nodes = nullptr;
-  const PrimRef* prims = nullptr;
-  const Triangle* triangles = nullptr;
-  const TriangleNormals* triangleNormals = nullptr;
-  const Quad* quads = nullptr;
-  const Sphere* spheres = nullptr;
-  const TriangleUvs* triangleUvs = nullptr;  // null when no mesh has texture coordinates
+#define PT_SCENE_VIEW_FIELD(Type, name, host) const Type* name = nullptr;
+  PT_SCENE_ARRAYS(PT_SCENE_VIEW_FIELD)
+#undef PT_SCENE_VIEW_FIELD
+
   uint32_t nodeCount = 0;
   uint32_t primCount = 0;
   uint32_t triangleTest = 0;  // 0: watertight (Woop et al.); 1: Moller-Trumbore (a study)
-
-  // Appearance and light.
-  const Material* materials = nullptr;
   uint32_t materialCount = 0;
-  const Texture* textures = nullptr;
-  const vec3* texels = nullptr;
-  const Light* lights = nullptr;
-  const float* lightPmf = nullptr;  // probability of choosing each light
-  const float* lightCdf = nullptr;  // lightCount + 1 entries, lightCdf[0] = 0, last = 1
   uint32_t lightCount = 0;
   int32_t backgroundLight = -1;     // index of the background in lights, or -1 when black
 
