@@ -2,8 +2,7 @@
 #include <fstream>
 
 #include "cpu_backend/cpu_backend.h"
-#include "src/integrator/flag_policy.h"
-#include "src/integrator/wavefront.h"
+#include "src/integrator/backend_session.h"
 
 namespace pt {
 
@@ -33,13 +32,14 @@ std::string CpuBackend::DeviceName() const {
   return "CPU";
 }
 
+std::unique_ptr<RenderSession> MakeCpuSession(const Scene& scene, const RenderOptions& options,
+                                              const RenderCallbacks& callbacks) {
+  return std::make_unique<BackendSession<CpuBackend>>(scene, options, callbacks, options.threads);
+}
+
 RenderResult RenderCpu(const Scene& scene, const RenderOptions& options,
                        const RenderCallbacks& callbacks) {
-  CpuBackend backend(options.threads);
-  FlagChoice flags = ChooseFlags(options);
-  WavefrontIntegrator<CpuBackend> integrator(backend, scene, options, callbacks, flags.compact,
-                                             flags.sort);
-  return integrator.Render();
+  return MakeCpuSession(scene, options, callbacks)->Render();
 }
 
 }  // namespace pt

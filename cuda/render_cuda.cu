@@ -1,8 +1,7 @@
 // Entry point of the CUDA backend: the generic wavefront integrator over CudaBackend. Only
 // launch plumbing lives here; the stage bodies are src/integrator/stages/.
 #include "cuda/cuda_backend.cuh"
-#include "src/integrator/flag_policy.h"
-#include "src/integrator/wavefront.h"
+#include "src/integrator/backend_session.h"
 
 namespace pt {
 
@@ -56,13 +55,14 @@ void CudaBackend::Synchronize() {
   pending_.clear();
 }
 
+std::unique_ptr<RenderSession> MakeCudaSession(const Scene& scene, const RenderOptions& options,
+                                               const RenderCallbacks& callbacks) {
+  return std::make_unique<BackendSession<CudaBackend>>(scene, options, callbacks);
+}
+
 RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
                         const RenderCallbacks& callbacks) {
-  CudaBackend backend;
-  FlagChoice flags = ChooseFlags(options);
-  WavefrontIntegrator<CudaBackend> integrator(backend, scene, options, callbacks, flags.compact,
-                                              flags.sort);
-  return integrator.Render();
+  return MakeCudaSession(scene, options, callbacks)->Render();
 }
 
 bool CudaBackendBuilt() { return true; }

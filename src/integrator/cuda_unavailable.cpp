@@ -1,13 +1,18 @@
 // In a build configured without CUDA, asking for the GPU backend is a clear error (exit 3 in
 // the app), never a crash or a silent fallback.
-#include "src/integrator/render_api.h"
+#include "src/integrator/render_session.h"
 
 #if !defined(PT_HAVE_CUDA)
 namespace pt {
 
-RenderResult RenderCuda(const Scene&, const RenderOptions&, const RenderCallbacks&) {
+std::unique_ptr<RenderSession> MakeCudaSession(const Scene&, const RenderOptions&,
+                                               const RenderCallbacks&) {
   throw BackendUnavailable(
       "this build has no CUDA backend (configured without a CUDA compiler); use --backend cpu");
+}
+RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
+                        const RenderCallbacks& callbacks) {
+  return MakeCudaSession(scene, options, callbacks)->Render();
 }
 bool CudaBackendBuilt() { return false; }
 int CudaDeviceCount() { return 0; }

@@ -54,6 +54,21 @@ struct FilmImage {
   std::vector<float> albedo, normal, depth;  // 3, 3 and 1 floats per pixel
 };
 
+// The film's raw per-pixel state over the crop window, enough to continue it exactly: the
+// Welford mean and M2 of linear RGB (float films hold float values exactly), the Welford
+// luminance statistics adaptive sampling reads, sample counts, and feature sums (empty
+// unless feature buffers were requested).
+struct FilmState {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::dvec3> mean, m2;
+  std::vector<float> lumMean, lumM2;
+  std::vector<uint32_t> count;
+  std::vector<vec3> albedoSum, normalSum;
+  std::vector<float> depthSum;
+
+  size_t PixelCount() const { return size_t(width) * height; }
+};
+
 struct StageTimes {
   double generate = 0, intersect = 0, sort = 0, shade = 0, shadow = 0, compact = 0,
          accumulate = 0;

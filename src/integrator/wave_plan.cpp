@@ -51,11 +51,11 @@ WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
   return plan;
 }
 
-FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const FilmData& film) {
+FilmImage ResolveFilmImage(const FilmState& film) {
   FilmImage img;
-  img.width = int(width);
-  img.height = int(height);
-  size_t n = size_t(width) * height;
+  img.width = int(film.width);
+  img.height = int(film.height);
+  size_t n = film.PixelCount();
   img.rgb.assign(3 * n, 0.0f);
   img.variance.assign(3 * n, 0.0f);
   img.samples = film.count;

@@ -30,12 +30,6 @@ void AppendWaves(const WaveInfo& base, const uint32_t* pixelList, uint32_t pixel
                  std::vector<WaveInfo>& waves);
 
 // The film as an image. Feature sums may be empty (not requested).
-struct FilmData {
-  std::vector<glm::dvec3> mean, m2;
-  std::vector<uint32_t> count;
-  std::vector<vec3> albedoSum, normalSum;
-  std::vector<float> depthSum;
-};
-FilmImage ResolveFilmImage(uint32_t width, uint32_t height, const FilmData& film);
+FilmImage ResolveFilmImage(const FilmState& film);
 
 }  // namespace pt

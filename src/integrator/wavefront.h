@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "src/integrator/film.h"
+#include "src/integrator/flag_policy.h"
 #include "src/integrator/path_state.h"
 #include "src/integrator/render_api.h"
 #include "src/integrator/scene_upload.h"
@@ -34,26 +35,68 @@ class WavefrontIntegrator {
   using Buffer = typename Backend::template Buffer<T>;
 
   WavefrontIntegrator(Backend& backend, const Scene& scene, const RenderOptions& options,
-                      const RenderCallbacks& callbacks, bool compact, bool sort)
+                      const RenderCallbacks& callbacks)
       : backend_(backend), scene_(scene), options_(options), callbacks_(callbacks),
-        compact_(compact), sort_(sort),
         plan_(MakeWavePlan(scene.desc.render, options.crop, backend.DefaultPathsInFlight(),
-                           options.maxPathsInFlight)) {}
+                           options.maxPathsInFlight)) {
+    ApplyOptions(options);
+  }
 
+  // The whole render: adaptive batches, or every pixel up to spp from its own count.
   RenderResult Render() {
-    auto t0 = Clock::now();
-    Allocate();
-    stats_.uploadMs = Ms(t0, Clock::now());
-    renderStart_ = lastPreview_ = Clock::now();
-    uint64_t done = adaptive_.enabled ? RenderAdaptive() : RenderWaves(plan_.waves, 0);
-    backend_.Synchronize();
-    stats_.renderMs = Ms(renderStart_, Clock::now());
+    uint64_t done = Timed([&] { return adaptive_.enabled ? RenderAdaptive() : UpTo(plan_.spp); });
     return Finish(done);
   }
 
-  // Runs waves until done or told to stop; returns the samples taken.
-  uint64_t RenderWaves(const std::vector<WaveInfo>& waves, uint64_t done) {
-    uint64_t total = uint64_t(plan_.cropPixels) * uint64_t(plan_.spp);
+  // Samples [begin, end) for every pixel of the crop (a RenderSession range).
+  uint64_t RenderRange(uint32_t begin, uint32_t end) {
+    return Timed([&] {
+      std::vector<WaveInfo> waves;
+      if (end > begin)
+        AppendWaves(plan_.base, nullptr, plan_.cropPixels, begin, end - begin, PathCapacity(),
+                    waves);
+      filmFresh_ = false;
+      return RenderWaves(waves, 0, uint64_t(plan_.cropPixels) * (end > begin ? end - begin : 0));
+    });
+  }
+
+  uint64_t RenderUpTo(uint32_t spp) {
+    return Timed([&] { return UpTo(spp); });
+  }
+
+  // Each pixel from its own sample count up to spp: pixels grouped by count (one group on a
+  // fresh film, two after an interruption between waves), each group's samples in order, so
+  // the film ends bit-identical to an uninterrupted render.
+  uint64_t UpTo(uint32_t spp) {
+    if (filmFresh_) {
+      filmFresh_ = false;
+      std::vector<WaveInfo> waves;
+      AppendWaves(plan_.base, nullptr, plan_.cropPixels, 0, spp, PathCapacity(), waves);
+      return RenderWaves(waves, 0, uint64_t(plan_.cropPixels) * spp);
+    }
+    std::vector<uint32_t> counts, order;
+    filmCount_.Download(counts);
+    for (uint32_t p = 0; p < counts.size(); ++p)
+      if (counts[p] < spp) order.push_back(p);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return counts[a] < counts[b]; });
+    uint64_t total = 0;
+    for (uint32_t p : order) total += spp - counts[p];
+    resumePixels_.Upload(order);
+    std::vector<WaveInfo> waves;
+    for (size_t g = 0; g < order.size();) {
+      size_t e = g;
+      while (e < order.size() && counts[order[e]] == counts[order[g]]) ++e;
+      uint32_t from = counts[order[g]];
+      AppendWaves(plan_.base, resumePixels_.Data() + g, uint32_t(e - g), from, spp - from,
+                  PathCapacity(), waves);
+      g = e;
+    }
+    return RenderWaves(waves, 0, total);
+  }
+
+  // Runs waves until done or told to stop; returns `done` plus the samples taken.
+  uint64_t RenderWaves(const std::vector<WaveInfo>& waves, uint64_t done, uint64_t total) {
     for (const WaveInfo& wave : waves) {
       if (StopRequested()) break;
       RunWave(wave);
@@ -68,12 +111,13 @@ class WavefrontIntegrator {
   // tolerance leave the active list (compacted like the path queue), and take no more paths.
   uint64_t RenderAdaptive() {
     uint32_t active = plan_.cropPixels, batch = uint32_t(std::max(1, adaptive_.batch));
-    uint64_t done = 0;
+    uint64_t done = 0, total = uint64_t(plan_.cropPixels) * plan_.spp;
+    filmFresh_ = false;
     for (uint32_t start = 0; start < plan_.spp && active > 0 && !stopped_;) {
       uint32_t count = std::min(batch, plan_.spp - start);
       std::vector<WaveInfo> waves;
-      AppendWaves(plan_.base, activePixels_.Data(), active, start, count, plan_.maxPaths, waves);
-      done = RenderWaves(waves, done);
+      AppendWaves(plan_.base, activePixels_.Data(), active, start, count, PathCapacity(), waves);
+      done = RenderWaves(waves, done, total);
       start += count;
       if (start >= uint32_t(adaptive_.minSpp)) active = RetireConverged(active);
     }
@@ -206,26 +250,19 @@ class WavefrontIntegrator {
   }
 
   // The film as an image: mean and per-channel sample variance per pixel.
-  FilmImage ResolveFilm() {
-    FilmData data;
-    if (options_.filmDouble) {
-      filmMeanDouble_.Download(data.mean);
-      filmM2Double_.Download(data.m2);
-    } else {
-      std::vector<vec3> mean, m2;
-      filmMean_.Download(mean);
-      filmM2_.Download(m2);
-      data.mean.assign(mean.begin(), mean.end());
-      data.m2.assign(m2.begin(), m2.end());
-    }
-    filmCount_.Download(data.count);
-    if (params_.featureBuffers) {
-      filmAlbedo_.Download(data.albedoSum);
-      filmNormal_.Download(data.normalSum);
-      filmDepth_.Download(data.depthSum);
-    }
-    return ResolveFilmImage(plan_.cropWidth, plan_.cropHeight, data);
+  FilmImage ResolveFilm() { return ResolveFilmImage(SaveFilm()); }
+
+  FilmState SaveFilm();
+  void LoadFilm(const FilmState& film);
+  void ResetFilm();
+  RenderStats Stats();
+
+  void SetCamera(const Camera& camera) {
+    EnsureAllocated();
+    sceneBuffers_.view.camera = camera;
   }
+  void ApplyOptions(const RenderOptions& options);
+  void SceneChanged();
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -233,6 +270,21 @@ class WavefrontIntegrator {
     return std::chrono::duration<double, std::milli>(b - a).count();
   }
 
+  // Runs a render step with the buffers allocated, its wall time added to the statistics.
+  template <typename F>
+  uint64_t Timed(F step) {
+    EnsureAllocated();
+    stopped_ = false;
+    auto start = Clock::now();
+    uint64_t done = step();
+    backend_.Synchronize();
+    stats_.renderMs += Ms(start, Clock::now());
+    return done;
+  }
+  uint32_t PathCapacity() const { return uint32_t(queue_.Size()); }
+  void EnsureAllocated() {
+    if (!allocated_) Allocate();
+  }
   void Allocate();
   void AllocatePaths(size_t n);
   void AllocateFilm(size_t pixels);
@@ -244,7 +296,8 @@ class WavefrontIntegrator {
   const Scene& scene_;
   RenderOptions options_;
   RenderCallbacks callbacks_;
-  bool compact_, sort_;
+  bool compact_ = true, sort_ = false;
+  bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;
   IntegratorParams params_{};
   SceneBuffers<Backend> sceneBuffers_;
@@ -260,7 +313,7 @@ class WavefrontIntegrator {
   Buffer<vec3> filmMean_, filmM2_, filmAlbedo_, filmNormal_;
   Buffer<glm::dvec3> filmMeanDouble_, filmM2Double_;
   Buffer<float> filmLumMean_, filmLumM2_, filmDepth_;
-  Buffer<uint32_t> filmCount_, activePixels_;
+  Buffer<uint32_t> filmCount_, activePixels_, resumePixels_;
   FilmView film_{};
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
@@ -268,7 +321,7 @@ class WavefrontIntegrator {
   Buffer<Counter> counters_;
 
   RenderStats stats_;
-  Clock::time_point renderStart_, lastPreview_;
+  Clock::time_point renderStart_, lastPreview_;  // the first render step's start
   double lastRelMseLog_ = -1.0;
 };
 

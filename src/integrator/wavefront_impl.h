@@ -20,16 +20,50 @@ inline IntegratorParams MakeParams(const RenderSettings& r, const RenderOptions&
   return p;
 }
 
+// What the options ask of the stages and the queue. Structural options (film precision,
+// feature buffers, crop, paths in flight, adaptive) are read once, by Allocate.
 template <typename Backend>
-void WavefrontIntegrator<Backend>::Allocate() {
+void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
+  options_.compact = o.compact;
+  options_.sort = o.sort;
+  options_.integrator = o.integrator;
+  options_.lightPaths = o.lightPaths;
+  options_.specialize = o.specialize;
+  options_.rayOffsetEpsilon = o.rayOffsetEpsilon;
+  options_.triangleTest = o.triangleTest;
+  options_.timeLimitSeconds = o.timeLimitSeconds;
+  options_.previewEverySeconds = o.previewEverySeconds;
+  FlagChoice flags = ChooseFlags(options_);
+  compact_ = flags.compact;
+  sort_ = flags.sort;
+  stats_.compactUsed = compact_;
+  stats_.sortUsed = sort_;
   params_ = MakeParams(scene_.desc.render, options_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(AnalyzeEffects(scene_))
                                       : FeatureClass::kGeneral;
   stats_.specialization = FeatureClassName(featureClass_);
+  sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
+}
+
+// The Scene was edited: its arrays again, and what the options derive from it.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::SceneChanged() {
+  EnsureAllocated();
+  Camera camera = sceneBuffers_.view.camera;  // a camera set on the session stays
+  UploadScene(scene_, sceneBuffers_);
+  sceneBuffers_.view.camera = camera;
+  ApplyOptions(options_);
+}
+
+template <typename Backend>
+void WavefrontIntegrator<Backend>::Allocate() {
+  auto t0 = Clock::now();
+  allocated_ = true;
+  renderStart_ = lastPreview_ = Clock::now();
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
-  sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
+  ApplyOptions(options_);
   // Adaptive waves over fewer pixels pack more samples per wave: up to the path budget.
   size_t capacity = plan_.pathCapacity;
   if (adaptive_.enabled)
@@ -39,8 +73,7 @@ void WavefrontIntegrator<Backend>::Allocate() {
   AllocateFilm(plan_.cropPixels);
   counters_.Resize(kCounterCount);
   counters_.Zero();
-  stats_.compactUsed = compact_;
-  stats_.sortUsed = sort_;
+  stats_.uploadMs = Ms(t0, Clock::now());
 }
 
 template <typename Backend>
@@ -84,16 +117,77 @@ void WavefrontIntegrator<Backend>::AllocateFilm(size_t pixels) {
   filmLumM2_.Resize(pixels);
   filmCount_.Resize(pixels);
   activePixels_.Resize(adaptive_.enabled ? pixels : 0);
+  film_ = FilmView{filmMean_.Data(),    filmM2_.Data(),     filmMeanDouble_.Data(),
+                   filmM2Double_.Data(), filmLumMean_.Data(), filmLumM2_.Data(),
+                   filmCount_.Data(),   filmAlbedo_.Data(), filmNormal_.Data(),
+                   filmDepth_.Data()};
+  ResetFilm();
+}
+
+template <typename Backend>
+void WavefrontIntegrator<Backend>::ResetFilm() {
   for (auto* b : {&filmMean_, &filmM2_, &filmAlbedo_, &filmNormal_}) b->Zero();
   filmMeanDouble_.Zero();
   filmM2Double_.Zero();
   for (auto* b : {&filmLumMean_, &filmLumM2_, &filmDepth_}) b->Zero();
   filmCount_.Zero();
-  film_ = FilmView{filmMean_.Data(),    filmM2_.Data(),     filmMeanDouble_.Data(),
-                   filmM2Double_.Data(), filmLumMean_.Data(), filmLumM2_.Data(),
-                   filmCount_.Data(),   filmAlbedo_.Data(), filmNormal_.Data(),
-                   filmDepth_.Data()};
+  filmFresh_ = true;
   if (adaptive_.enabled) ResetActivePixels();
+}
+
+template <typename Backend>
+FilmState WavefrontIntegrator<Backend>::SaveFilm() {
+  EnsureAllocated();
+  FilmState f;
+  f.width = plan_.cropWidth;
+  f.height = plan_.cropHeight;
+  if (options_.filmDouble) {
+    filmMeanDouble_.Download(f.mean);
+    filmM2Double_.Download(f.m2);
+  } else {
+    std::vector<vec3> mean, m2;
+    filmMean_.Download(mean);
+    filmM2_.Download(m2);
+    f.mean.assign(mean.begin(), mean.end());
+    f.m2.assign(m2.begin(), m2.end());
+  }
+  filmLumMean_.Download(f.lumMean);
+  filmLumM2_.Download(f.lumM2);
+  filmCount_.Download(f.count);
+  if (params_.featureBuffers) {
+    filmAlbedo_.Download(f.albedoSum);
+    filmNormal_.Download(f.normalSum);
+    filmDepth_.Download(f.depthSum);
+  }
+  return f;
+}
+
+template <typename Backend>
+void WavefrontIntegrator<Backend>::LoadFilm(const FilmState& f) {
+  EnsureAllocated();
+  size_t n = plan_.cropPixels;
+  bool features = params_.featureBuffers != 0;
+  if (f.width != plan_.cropWidth || f.height != plan_.cropHeight || f.mean.size() != n ||
+      f.m2.size() != n || f.lumMean.size() != n || f.lumM2.size() != n || f.count.size() != n)
+    throw std::invalid_argument("film state does not match the render's size");
+  if (features && (f.albedoSum.size() != n || f.normalSum.size() != n || f.depthSum.size() != n))
+    throw std::invalid_argument("film state lacks the feature channels this render keeps");
+  if (options_.filmDouble) {
+    filmMeanDouble_.Upload(f.mean);
+    filmM2Double_.Upload(f.m2);
+  } else {
+    filmMean_.Upload(std::vector<vec3>(f.mean.begin(), f.mean.end()));
+    filmM2_.Upload(std::vector<vec3>(f.m2.begin(), f.m2.end()));
+  }
+  filmLumMean_.Upload(f.lumMean);
+  filmLumM2_.Upload(f.lumM2);
+  filmCount_.Upload(f.count);
+  if (features) {
+    filmAlbedo_.Upload(f.albedoSum);
+    filmNormal_.Upload(f.normalSum);
+    filmDepth_.Upload(f.depthSum);
+  }
+  filmFresh_ = false;
 }
 
 template <typename Backend>
@@ -126,7 +220,8 @@ void WavefrontIntegrator<Backend>::AfterWave(uint64_t done, uint64_t total) {
 }
 
 template <typename Backend>
-RenderResult WavefrontIntegrator<Backend>::Finish(uint64_t samplesDone) {
+RenderStats WavefrontIntegrator<Backend>::Stats() {
+  EnsureAllocated();
   std::vector<Counter> counters;
   counters_.Download(counters);
   stats_.shadowRays = counters[kCounterShadowRays];
@@ -134,18 +229,24 @@ RenderResult WavefrontIntegrator<Backend>::Finish(uint64_t samplesDone) {
   stats_.primsTested = counters[kCounterPrimsTested];
   stats_.traversals = counters[kCounterTraversals];
   stats_.nonfiniteSamples = counters[kCounterNonfinite];
-  stats_.samples = samplesDone;
   stats_.stages = backend_.Times();
   stats_.backend = backend_.Name();
   stats_.device = backend_.DeviceName();
   stats_.threads = backend_.ThreadCount();
   stats_.peakDeviceBytes = backend_.PeakBytes();
+  return stats_;
+}
 
+template <typename Backend>
+RenderResult WavefrontIntegrator<Backend>::Finish(uint64_t samplesDone) {
   RenderResult result;
+  result.stats = Stats();
+  result.stats.samples = samplesDone;
   result.image = ResolveFilm();
-  uint64_t pixels = std::max<uint64_t>(1, plan_.cropPixels);
-  stats_.sppMean = double(samplesDone) / double(pixels);
-  result.stats = stats_;
+  // Samples per pixel in the film (a resumed render counts what it continued from).
+  uint64_t filmSamples = 0;
+  for (uint32_t c : result.image.samples) filmSamples += c;
+  result.stats.sppMean = double(filmSamples) / double(std::max<uint64_t>(1, plan_.cropPixels));
   return result;
 }
 

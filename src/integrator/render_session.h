@@ -1,0 +1,52 @@
+// A render that persists on one backend: it renders ranges of samples into its film, hands
+// out and takes back the raw film (to resume a render, or to reduce films across processes),
+// and takes camera, option and scene changes between ranges (a live preview). The one-shot
+// RenderCpu / RenderCuda are a session's Render(). Host-side only: a virtual interface is
+// fine here, since no device code sees it.
+#pragma once
+
+#include <memory>
+
+#include "src/integrator/render_api.h"
+
+namespace pt {
+
+class RenderSession {
+ public:
+  virtual ~RenderSession() = default;
+
+  // The whole render the options ask for (adaptive batches, time limit, callbacks); after
+  // LoadFilm it continues each pixel from its own count.
+  virtual RenderResult Render() = 0;
+
+  // Every pixel of the crop takes samples [begin, end), in sample order. Returns the samples
+  // taken (fewer when the stop callback or time limit ends it between waves).
+  virtual uint64_t RenderRange(uint32_t begin, uint32_t end) = 0;
+  // Each pixel takes samples from its own count up to spp (resuming an interrupted render).
+  virtual uint64_t RenderUpTo(uint32_t spp) = 0;
+
+  virtual FilmState SaveFilm() = 0;
+  // Throws std::invalid_argument when the film's size or feature channels do not match.
+  virtual void LoadFilm(const FilmState& film) = 0;
+  virtual void ResetFilm() = 0;
+  virtual FilmImage Image() = 0;  // the film as mean and variance
+
+  // Statistics of everything rendered so far (counters, stage times, memory).
+  virtual RenderStats Stats() = 0;
+
+  // Between ranges: a new camera; new options (flags, integrator, specialisation; film
+  // precision, feature buffers, crop and paths in flight stay as created); the Scene the
+  // session was made from was edited (materials, settings such as max_depth): re-read it.
+  virtual void SetCamera(const Camera& camera) = 0;
+  virtual void SetOptions(const RenderOptions& options) = 0;
+  virtual void SceneChanged() = 0;
+};
+
+// Sessions on each backend. The Scene must outlive the session. MakeCudaSession throws
+// BackendUnavailable when the CUDA backend is not built or no GPU is present.
+std::unique_ptr<RenderSession> MakeCpuSession(const Scene& scene, const RenderOptions& options,
+                                              const RenderCallbacks& callbacks = {});
+std::unique_ptr<RenderSession> MakeCudaSession(const Scene& scene, const RenderOptions& options,
+                                               const RenderCallbacks& callbacks = {});
+
+}  // namespace pt
