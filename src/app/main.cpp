@@ -3,9 +3,9 @@
 
 int main(int argc, char** argv) {
   pt::AppBackends backends;
-  backends.renderCpu = &pt::RenderCpu;
+  backends.cpuSession = &pt::MakeCpuSession;
 #if defined(PT_HAVE_CUDA)
-  backends.renderCuda = &pt::RenderCuda;
+  backends.cudaSession = &pt::MakeCudaSession;
 #endif
   backends.cudaDeviceCount = &pt::CudaDeviceCount;
   return pt::RunApp(argc, argv, backends);

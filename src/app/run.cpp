@@ -127,10 +127,10 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
 // auto: CUDA when it is built and a GPU is present, else the CPU.
 BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
   int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
-  bool cudaReady = backends.renderCuda != nullptr && gpus > 0;
+  bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
   if (requested == BackendKind::kCuda && !cudaReady) {
     throw AppFailure{kExitRuntimeFailure,
-                     backends.renderCuda ? "--backend cuda: no CUDA device found"
+                     backends.cudaSession ? "--backend cuda: no CUDA device found"
                                          : "--backend cuda: this build has no CUDA backend"};
   }
   bool useCuda = requested != BackendKind::kCpu && cudaReady;
@@ -166,7 +166,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   return options;
 }
 
-RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction render,
+RenderResult Render(const CliOptions& cli, const Scene& scene, SessionFactory makeSession,
                     const RenderOptions& options) {
   ProgressBar progress(cli.quiet);
   RenderCallbacks callbacks;
@@ -184,7 +184,7 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, RenderFunction re
     };
   }
   try {
-    RenderResult result = render(scene, options, callbacks);
+    RenderResult result = makeSession(scene, options, callbacks)->Render();
     progress.Finish();
     return result;
   } catch (const BackendUnavailable& e) {
@@ -223,11 +223,12 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);
-  RenderFunction render = backend == BackendKind::kCuda ? backends.renderCuda : backends.renderCpu;
+  SessionFactory makeSession =
+      backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
   InstallSigintHandler();
   RenderOptions options =
       MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
-  RenderResult result = Render(cli, scene, render, options);
+  RenderResult result = Render(cli, scene, makeSession, options);
   bool interrupted = gInterrupted.load();
   result.stats.interrupted = result.stats.interrupted || interrupted;
   try {

@@ -2,7 +2,7 @@
 // ../shared/cli.md defines them.
 #pragma once
 
-#include "src/integrator/render_api.h"
+#include "src/integrator/render_session.h"
 
 namespace pt {
 
@@ -12,15 +12,15 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitRuntimeFailure = 3;
 inline constexpr int kExitInterrupted = 130;
 
-using RenderFunction = RenderResult (*)(const Scene&, const RenderOptions&,
-                                        const RenderCallbacks&);
+using SessionFactory = std::unique_ptr<RenderSession> (*)(const Scene&, const RenderOptions&,
+                                                         const RenderCallbacks&);
 
 // The backends, handed in by main(): the executable, not pt_core, must reference them, since
-// the static backend libraries come before pt_core on the link line. renderCuda is null when
+// the static backend libraries come before pt_core on the link line. cudaSession is null when
 // the CUDA backend is not built.
 struct AppBackends {
-  RenderFunction renderCpu = nullptr;
-  RenderFunction renderCuda = nullptr;
+  SessionFactory cpuSession = nullptr;
+  SessionFactory cudaSession = nullptr;
   int (*cudaDeviceCount)() = nullptr;
 };
 
