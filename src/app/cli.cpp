@@ -138,6 +138,17 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
+      {"--env-strength",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         char* end = nullptr;
+         double v = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0.0 || v > 1e30) {
+           throw CliError("bad value for --env-strength: '" + text + "' (a number >= 0)");
+         }
+         o.envStrength = float(v);
+       }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
@@ -175,6 +186,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.integrator = ParseChoice<IntegratorMode>(
              s, {{"mis", IntegratorMode::kMis}, {"bsdf", IntegratorMode::kBsdf},
                  {"nee", IntegratorMode::kNee}});
+       }},
+      {"--env-sampling",
+       [](CliOptions& o, ValueSource& s) {
+         o.envSampling = ParseChoice<EnvSampling>(
+             s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
        }},
   };
   return table;
@@ -318,6 +334,11 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
   --compact on|off|auto    stream compaction of finished paths (default auto)
   --sort off|material|auto order live paths by material before shading (default auto)
   --integrator mis|bsdf|nee  light transport estimator (default mis)
+  --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
+                           the scene's environment or background
+  --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
+  --env-sampling importance|uniform  how next-event estimation samples the map (default
+                           importance: by luminance x solid angle)
   --reference FILE         log relMSE against this .exr/.pfm image into the stats
   --time-limit SECONDS     stop after this much render time, write what has accumulated
   --preview-every SECONDS  rewrite the outputs as samples accumulate

@@ -44,6 +44,9 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  std::string envPath;                // --env: replaces the scene's environment
+  std::optional<float> envStrength;   // --env-strength
+  EnvSampling envSampling = EnvSampling::kImportance;
 
   bool quiet = false;
   bool help = false;

@@ -45,6 +45,8 @@ bool CheckWritable(const std::string& path, std::string* why);
 // Linear RGB, rows top to bottom. Throw ImageError on a missing or malformed file.
 void ReadExrRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 void ReadPfmRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
+// Radiance .hdr (RGBE), through stb_image.
+void ReadHdrRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 // By extension: .exr or .pfm.
 void ReadImageRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 
