@@ -214,5 +214,20 @@ TEST(EnvRender, SkyWithItsSunRendersAsTheMapMakeSkyWrites) {
   ExpectWindowsAgree(a, b, BlockWindows(a, 4), "sky vs its map");
 }
 
+TEST(EnvRender, BitIdenticalAcrossThreadsAndCompaction) {
+  SceneDesc desc = LoadScene(SourcePath("scenes/sunsky_diffuse.json"));
+  desc.render.width = 40;
+  desc.render.height = 30;
+  desc.render.spp = 4;
+  Scene scene = BuildScene(std::move(desc));
+  RenderOptions one, other;
+  one.threads = 1;
+  other.threads = 2;
+  other.compact = Toggle::kOff;
+  other.maxPathsInFlight = 700;
+  FilmImage a = RenderCpu(scene, one).image, b = RenderCpu(scene, other).image;
+  EXPECT_EQ(0, std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)));
+}
+
 }  // namespace
 }  // namespace pt::test
