@@ -25,7 +25,8 @@ std::string Scene(const std::string& environment, const std::string& ball, int s
 }
 
 const char* kDiffuse = R"({"type": "diffuse", "albedo": [0.7, 0.6, 0.5]})";
-const char* kGlossy = R"({"type": "plastic", "albedo": [0.7, 0.2, 0.1], "ior": 1.5, "roughness": 0.3})";
+const char* kGlossy =
+    R"({"type": "plastic", "albedo": [0.7, 0.2, 0.1], "ior": 1.5, "roughness": 0.3})";
 const char* kSky = R"("environment": {"sky": {"sun_elevation": 30, "sun_azimuth": 40, "width": 256},
     "strength": 0.02})";
 

@@ -20,12 +20,15 @@ namespace {
 const char* kCamera = R"("camera": {"position": [0, 1, 5], "look_at": [0, 0.5, 0], "fov_y": 40})";
 
 // A diffuse sphere on a diffuse floor, lit by `environment` (a JSON member or two).
+const char* kDiffuseBall = R"({"type": "diffuse", "albedo": [0.7, 0.6, 0.5]})";
+
 std::string SphereOnFloor(const std::string& environment, int spp, int seed,
-                          const std::string& sphere = R"({"type": "diffuse", "albedo": [0.7, 0.6, 0.5]})") {
+                          const std::string& sphere = kDiffuseBall) {
   return R"({"render": {"width": 32, "height": 32, "spp": )" + std::to_string(spp) +
          R"(, "max_depth": 3, "seed": )" + std::to_string(seed) + "}, " + kCamera + ", " +
          environment + R"(,
-    "materials": {"ball": )" + sphere + R"(, "floor": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+    "materials": {"ball": )" + sphere + R"(,
+                  "floor": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
     "objects": [{"type": "sphere", "center": [0, 0.6, 0], "radius": 0.6, "material": "ball"},
                 {"type": "quad", "origin": [-20, 0, 20], "u": [40, 0, 0], "v": [0, 0, -40],
                  "material": "floor"}]})";
@@ -92,7 +95,9 @@ TEST(EnvRender, ImportanceAndUniformSamplingEstimateTheSameImage) {
 
 // A black map but for one texel in column 3w/4 (u = 0.75: +X) just above the horizon.
 void WriteOneBrightTexel(const std::string& path, int w, vec3 value) {
-  WriteMap(path, w, [&](int i, int j) { return i == 3 * w / 4 && j == w / 4 - 1 ? value : vec3(0.0f); });
+  WriteMap(path, w, [&](int i, int j) {
+    return i == 3 * w / 4 && j == w / 4 - 1 ? value : vec3(0.0f);
+  });
 }
 
 TEST(EnvRender, OneBrightTexelLightsTheSideTheConventionStates) {
@@ -175,7 +180,8 @@ TEST(EnvRender, SunGivesItsStatedIrradiance) {
 
 TEST(EnvRender, HiddenEnvironmentShowsTheCameraColourAndLightsAlike) {
   ScopedDir dir;
-  WriteMap(dir / "sky.pfm", 32, [](int i, int j) { return vec3(0.2f + 0.1f * (i % 3), 0.5f, 1.0f - j * 0.05f); });
+  WriteMap(dir / "sky.pfm", 32,
+           [](int i, int j) { return vec3(0.2f + 0.1f * (i % 3), 0.5f, 1.0f - j * 0.05f); });
   for (std::string source : {R"("radiance": [0.8, 0.9, 1.0])", R"("file": "sky.pfm")"}) {
     FilmImage seen = RenderOnCpu(SceneIn(dir, SphereOnFloor(
         R"("environment": {)" + source + "}", 8, 5))).image;

@@ -54,7 +54,8 @@ Options Parse(int argc, char** argv) {
     else if (a == "--width") o.width = int(Number(a, v, 8, 16384));
     else if (a == "--ground-albedo") o.groundAlbedo = Number(a, v, 0.0, 1.0);
     else if (a == "--strength") o.strength = Number(a, v, 0.0, 1e30);
-    else if (a == "--sun" && (std::string(v) == "on" || std::string(v) == "off")) o.sun = std::string(v) == "on";
+    else if (a == "--sun" && (std::string(v) == "on" || std::string(v) == "off"))
+      o.sun = std::string(v) == "on";
     else Usage("unknown option or value: " + a + " " + v);
   }
   if (o.output.empty()) Usage("missing -o OUT");

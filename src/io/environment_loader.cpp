@@ -1,7 +1,6 @@
 #include "src/io/environment_loader.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 
@@ -16,12 +15,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int64_t kMaxMapHeight = 1 << 15;
-
-std::string LowerExtension(const std::string& file) {
-  std::string ext = fs::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 // Every texel finite and non-negative; otherwise what is wrong with the first bad one.
 std::string CheckTexels(const EnvironmentDesc& env) {

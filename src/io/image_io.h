@@ -22,6 +22,8 @@ enum class ImageFormat { kPng, kExr, kPfm };
 // The format named by the path's extension (case-insensitive); false for any other.
 bool ImageFormatFromPath(const std::string& path, ImageFormat* format);
 bool IsExrPath(const std::string& path);
+// The path's extension in lower case, with its dot (".exr"); empty when it has none.
+std::string LowerExtension(const std::string& path);
 
 // --spp-map: samples per pixel as a heat map (PNG) or raw counts (EXR, PFM).
 void WriteSppMap(const std::string& path, const FilmImage& image);

@@ -65,7 +65,9 @@ PT_HDI float EnvTexelPdf(const SceneView& s, EnvTexel t) {
 }
 
 // Radiance arriving along the escaped direction w (world, unit).
-PT_HDI vec3 EnvMapLe(const SceneView& s, vec3 w) { return EnvTexelRadiance(s, EnvTexelOf(s.env, w)); }
+PT_HDI vec3 EnvMapLe(const SceneView& s, vec3 w) {
+  return EnvTexelRadiance(s, EnvTexelOf(s.env, w));
+}
 
 // Solid-angle pdf (without the light-choice probability) that SampleEnvMap returns w.
 PT_HDI float EnvMapPdf(const SceneView& s, vec3 w) {

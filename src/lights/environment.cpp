@@ -69,7 +69,8 @@ double EnvironmentMapLuminanceIntegral(const Scene& scene) {
   double sum = 0.0;
   for (uint32_t j = 0; j < d.height; ++j) {
     double row = 0.0;
-    for (uint32_t i = 0; i < d.width; ++i) row += double(Luminance(d.texels[size_t(j) * d.width + i]));
+    for (uint32_t i = 0; i < d.width; ++i)
+      row += double(Luminance(d.texels[size_t(j) * d.width + i]));
     sum += row * TexelSolidAngle(j, d.width, d.height);
   }
   return sum * double(d.strength);

@@ -83,7 +83,8 @@ vec3 MapDirection(double u, double v) {
 // exactly covered, keeping the sun's power.
 void AddSunDisk(const SkyDesc& sky, uint32_t w, uint32_t h, std::vector<vec3>* texels) {
   vec3 sun = glm::normalize(sky.sunDirection);
-  vec3 radiance = SunIrradiance(sky) * float(1.0 / (M_PI * std::pow(std::sin(kSunAngularRadius), 2)));
+  double sinR = std::sin(kSunAngularRadius);
+  vec3 radiance = SunIrradiance(sky) * float(1.0 / (M_PI * sinR * sinR));
   double cosR = std::cos(kSunAngularRadius);
   double reach = kSunAngularRadius + 2.0 * M_PI / h;  // the disk plus a texel's diagonal
   struct Share {
@@ -96,7 +97,8 @@ void AddSunDisk(const SkyDesc& sky, uint32_t w, uint32_t h, std::vector<vec3>* t
   for (uint32_t j = 0; j < h; ++j) {
     double t0 = M_PI * j / h, t1 = M_PI * (j + 1) / h;
     for (uint32_t i = 0; i < w; ++i) {
-      double angle = std::acos(std::clamp(double(glm::dot(MapDirection((i + 0.5) / w, (j + 0.5) / h), sun)), -1.0, 1.0));
+      vec3 centre = MapDirection((i + 0.5) / w, (j + 0.5) / h);
+      double angle = std::acos(std::clamp(double(glm::dot(centre, sun)), -1.0, 1.0));
       if (angle > reach) continue;
       double texelSolidAngle = (std::cos(t0) - std::cos(t1)) * 2.0 * M_PI / w;
       int inside = 0;
@@ -121,7 +123,8 @@ void AddSunDisk(const SkyDesc& sky, uint32_t w, uint32_t h, std::vector<vec3>* t
 
 vec3 SunDirection(double elevationDegrees, double azimuthDegrees) {
   double e = elevationDegrees * M_PI / 180.0, a = azimuthDegrees * M_PI / 180.0;
-  return vec3(float(std::cos(e) * std::sin(a)), float(std::sin(e)), float(-std::cos(e) * std::cos(a)));
+  return vec3(float(std::cos(e) * std::sin(a)), float(std::sin(e)),
+              float(-std::cos(e) * std::cos(a)));
 }
 
 vec3 SkyRadiance(const SkyDesc& sky, vec3 w) { return PreethamRadiance(MakePreetham(sky), w); }
