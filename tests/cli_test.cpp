@@ -253,9 +253,9 @@ TEST(CliParse, LongRenderOptions) {
   EXPECT_DOUBLE_EQ(o.progressEverySeconds, 2.5);
   EXPECT_EQ(o.maxPaths, 4096u);
   EXPECT_FLOAT_EQ(o.clampLuminance, 20.0f);
-  ASSERT_EQ(o.arguments.size(), 15u);
+  ASSERT_EQ(o.arguments.size(), 14u);
   EXPECT_EQ(o.arguments[0], "pathtracer");
-  EXPECT_EQ(o.arguments[14], "--clamp=20");
+  EXPECT_EQ(o.arguments[13], "--clamp=20");
   CliOptions d = Parse({"s.json", "-o", "o.png"});
   EXPECT_DOUBLE_EQ(d.progressEverySeconds, 10.0);
   EXPECT_EQ(d.checkpointEverySeconds, 0.0);
