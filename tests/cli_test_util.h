@@ -53,7 +53,7 @@ inline int RunPathtracer(const std::string& args, std::string* output = nullptr)
 inline int RunPathtracerAndSignal(const std::string& args, const std::string& waitFor,
                                   const std::string& signal, std::string* output = nullptr) {
   std::string command = "(" + BinaryPath("pathtracer") + " " + args + " 2>&1 & pid=$!; i=0;" +
-                        " while [ ! -f " + waitFor + " ] && [ $i -lt 300 ]; do sleep 0.1;" +
+                        " while [ ! -f " + waitFor + " ] && [ $i -lt 600 ]; do sleep 0.05;" +
                         " i=$((i+1)); done; kill -" + signal + " $pid; wait $pid)";
   return RunCommand(command, output);
 }
