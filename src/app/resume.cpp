@@ -92,7 +92,8 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
   };
 }
 
-FilmState LoadResumeFilm(const CliOptions& cli, const Json& current) {
+FilmState LoadResumeFilm(const CliOptions& cli, const std::string& currentText) {
+  Json current = Json::parse(currentText);
   ResumableExr saved;
   try {
     saved = ReadResumableExr(cli.resumePath);

@@ -19,10 +19,10 @@ nlohmann::ordered_json DescribeRender(const CliOptions& cli, const Scene& scene,
                                       const RenderOptions& options, bool adaptive);
 
 // The film to continue, read from cli.resumePath and checked against `current` (this render's
-// description). Throws AppFailure with exit status 2 and a message naming the file and every
+// description, as JSON text). Throws AppFailure with exit status 2 and a message naming the file and every
 // difference: another scene (its files changed), size, crop, seed or setting; a film with more
 // samples in a pixel than this render's spp; an adaptive render (not resumable yet); a file
 // that holds no resumable state.
-FilmState LoadResumeFilm(const CliOptions& cli, const nlohmann::ordered_json& current);
+FilmState LoadResumeFilm(const CliOptions& cli, const std::string& current);
 
 }  // namespace pt

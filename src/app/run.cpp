@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "src/app/app_failure.h"
@@ -167,12 +168,6 @@ void PrintWritten(const std::vector<std::string>& files, const CliOptions& cli, 
   }
 }
 
-// The film to continue from --resume, or nothing; refusals exit with status 2.
-std::optional<FilmState> ResumeFilm(const CliOptions& cli, const nlohmann::ordered_json& current) {
-  if (cli.resumePath.empty()) return std::nullopt;
-  return LoadResumeFilm(cli, current);
-}
-
 RunReport MakeReport(const CliOptions& cli, const Scene& scene, const JobOutcome& job,
                      BackendKind backend) {
   RunReport r;
@@ -190,6 +185,44 @@ RunReport MakeReport(const CliOptions& cli, const Scene& scene, const JobOutcome
   return r;
 }
 
+// The render on the chosen backend; with the render's description where a resumable state
+// may be written or read.
+RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend,
+                  const AppBackends& backends, const std::vector<float>* reference) {
+  RenderJob job;
+  job.cli = &cli;
+  job.scene = &scene;
+  job.makeSession = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
+  job.options = MakeRenderOptions(cli, backend, reference);
+  if (IsExrPath(cli.hdrPath) || !cli.resumePath.empty()) {
+    bool adaptive = cli.adaptive == Toggle::kAuto ? scene.desc.render.adaptive.enabled
+                                                  : cli.adaptive == Toggle::kOn;
+    job.description = DescribeRender(cli, scene, job.options, adaptive).dump();
+  }
+  return job;
+}
+
+// The images (the --hdr EXR resumable when the job kept its film) and the stats; returns the
+// files written.
+std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
+                                      const RenderJob& job, const JobOutcome& outcome,
+                                      AppTimes times, Clock::time_point start) {
+  try {
+    ResumableState state{&outcome.film, job.options.filmDouble, job.description};
+    std::vector<std::string> written =
+        WriteImages(cli, outcome.result.image, outcome.keepState ? &state : nullptr);
+    if (!cli.statsJsonPath.empty()) {
+      times.totalMs = MsSince(start);
+      RunReport report = MakeReport(cli, scene, outcome, job.options.backend);
+      WriteStatsJson(cli.statsJsonPath, StatsToJson(outcome.result.stats, scene, times, report));
+      written.push_back(cli.statsJsonPath);
+    }
+    return written;
+  } catch (const ImageError& e) {
+    throw AppFailure{kExitRuntimeFailure, e.what()};
+  }
+}
+
 int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point start) {
   CheckOutputsWritable(cli);
   AppTimes times;
@@ -199,35 +232,13 @@ int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point st
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);
-  RenderJob job;
-  job.cli = &cli;
-  job.scene = &scene;
-  job.makeSession = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
-  job.options = MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
-  bool adaptive = cli.adaptive == Toggle::kAuto ? scene.desc.render.adaptive.enabled
-                                                : cli.adaptive == Toggle::kOn;
-  nlohmann::ordered_json description;
-  if (IsExrPath(cli.hdrPath) || !cli.resumePath.empty()) {
-    description = DescribeRender(cli, scene, job.options, adaptive);
-    job.description = description.dump();
-  }
-  std::optional<FilmState> resumed = ResumeFilm(cli, description);
+  RenderJob job = MakeJob(cli, scene, backend, backends, cli.referencePath.empty() ? nullptr : &reference);
+  std::optional<FilmState> resumed;
+  if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
   job.resumeFrom = resumed ? &*resumed : nullptr;
   InstallStopSignals();
   JobOutcome outcome = RunRenderJob(job);
-  std::vector<std::string> written;
-  try {
-    ResumableState state{&outcome.film, job.options.filmDouble, job.description};
-    written = WriteImages(cli, outcome.result.image, outcome.keepState ? &state : nullptr);
-    if (!cli.statsJsonPath.empty()) {
-      times.totalMs = MsSince(start);
-      RunReport report = MakeReport(cli, scene, outcome, backend);
-      WriteStatsJson(cli.statsJsonPath, StatsToJson(outcome.result.stats, scene, times, report));
-      written.push_back(cli.statsJsonPath);
-    }
-  } catch (const ImageError& e) {
-    throw AppFailure{kExitRuntimeFailure, e.what()};
-  }
+  std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
   PrintSummary(outcome);
   PrintWritten(written, cli, outcome.keepState);
   return outcome.reason == StopReason::kSignal ? 128 + outcome.signal : kExitOk;
