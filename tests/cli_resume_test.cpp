@@ -97,6 +97,12 @@ TEST_F(CliResume, MoreSamplesContinueACompletedCheckpoint) {
   EXPECT_NE(out.find("(resumable: --resume"), std::string::npos) << out;
   ASSERT_EQ(Render("more", cpu + " --spp 4 --resume " + dir_ + "/two.exr", &out), 0) << out;
   EXPECT_EQ(ReadText(dir_ + "/more.pfm"), ReadText(dir_ + "/four.pfm"));
+  // A double-precision film continues exactly as well.
+  const std::string dbl = cpu + " --film double";
+  ASSERT_EQ(Render("four_d", dbl + " --spp 4", &out), 0) << out;
+  ASSERT_EQ(Render("two_d", dbl + " --spp 2 --checkpoint-every 1000", &out), 0) << out;
+  ASSERT_EQ(Render("more_d", dbl + " --spp 4 --resume " + dir_ + "/two_d.exr", &out), 0) << out;
+  EXPECT_EQ(ReadText(dir_ + "/more_d.pfm"), ReadText(dir_ + "/four_d.pfm"));
   // Fewer samples than the film holds cannot be had.
   ASSERT_EQ(Render("fewer", cpu + " --spp 1 --resume " + dir_ + "/two.exr", &out), 2) << out;
   EXPECT_NE(out.find("hold up to 2 samples, more than the 1 spp"), std::string::npos) << out;

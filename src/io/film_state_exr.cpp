@@ -1,7 +1,6 @@
 #include "src/io/film_state_exr.h"
 
 #include <bit>
-#include <cstring>
 
 #include "src/io/exr_codec.h"
 #include "src/io/image_io.h"
@@ -37,8 +36,12 @@ void AddWelfordChannels(const std::string& name, const std::vector<glm::dvec3>& 
 void AddVec3Channels(const std::string& name, const std::vector<vec3>& values,
                      std::vector<ExrChannel>& channels) {
   std::vector<float> flat(values.size() * 3);
-  if (!values.empty()) std::memcpy(flat.data(), values.data(), flat.size() * 4);
-  for (int c = 0; c < 3; ++c) channels.push_back(FloatChannel("state." + name + "." + kXyz[c], flat, 3, c));
+  for (size_t i = 0; i < values.size(); ++i) {
+    for (int c = 0; c < 3; ++c) flat[3 * i + size_t(c)] = values[i][c];
+  }
+  for (int c = 0; c < 3; ++c) {
+    channels.push_back(FloatChannel("state." + name + "." + kXyz[c], flat, 3, c));
+  }
 }
 
 // Reads channels of a resumable file; every one must be there.
