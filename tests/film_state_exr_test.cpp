@@ -42,7 +42,8 @@ FilmState RandomFilm(uint32_t w, uint32_t h, bool doubleFilm, bool features) {
 
 template <typename T>
 bool SameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 TEST(FilmStateExr, TheStateComesBackBitForBit) {
