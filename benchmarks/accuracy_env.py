@@ -18,7 +18,8 @@ method's constant: the time to reach any relMSE r is that constant / r, and the 
 methods' constants is how much sooner one reaches a given error (the speed-up reported).
 
 Outputs under --out: accuracy_env_runs.csv (every run), accuracy_env.md (the table),
-accuracy_env.png (relMSE against spp and against time, when matplotlib is present).
+accuracy_env.png (relMSE against spp and against time, when matplotlib is present; else
+--plot-csv draws it later from the CSV where matplotlib is).
 Times: render_ms from --stats-json (wall clock, loading excluded), and, on the CPU, the
 process's CPU time (user + system) less that of a one-pixel one-sample run of the same
 scene and flags (loading the map, building tables and BVH), which other work on a shared
@@ -35,6 +36,7 @@ import csv
 import json
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -93,6 +95,13 @@ def reference(args, scene, work):
 def study(args):
     rows, refs = [], {}
     work = tempfile.mkdtemp(prefix="accuracy_env_")
+    try:
+        return study_in(args, work, rows, refs)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def study_in(args, work, rows, refs):
     for scene in args.scenes:
         ref, noise = reference(args, scene, work)
         refs[scene] = noise
@@ -201,12 +210,20 @@ def main():
     p.add_argument("--label", default="2 CPU threads")
     p.add_argument("--out", default=os.path.join(REPO, "benchmarks/results"))
     p.add_argument("--quick", action="store_true", help="16x12, spp 1 and 4, 256-spp reference")
+    p.add_argument("--plot-csv", default=None,
+                   help="only draw accuracy_env.png from an earlier run's accuracy_env_runs.csv")
     args = p.parse_args()
     args.w, args.h = (int(v) for v in args.size.split("x"))
     args.spps = [int(v) for v in args.spps.split(",")]
     args.scenes = args.scenes.split(",")
     if args.quick:
         args.w, args.h, args.spps, args.ref_spp, args.seeds = 16, 12, [1, 4], 256, 2
+    if args.plot_csv:
+        with open(args.plot_csv, newline="") as f:
+            rows = [dict(r, spp=int(r["spp"]), relmse=float(r["relmse"]), wall_s=float(r["wall_s"]),
+                         cpu_s=float(r["cpu_s"])) for r in csv.DictReader(f)]
+        plot(summarize(rows, {}, args.backend), args, os.path.join(args.out, "accuracy_env.png"))
+        return
     ensure_map(args.make_sky or os.path.join(os.path.dirname(args.binary), "make_sky"))
     os.makedirs(args.out, exist_ok=True)
     rows, refs = study(args)
