@@ -10,26 +10,13 @@
 #include <nlohmann/json.hpp>
 
 #include "src/app/cli.h"
+#include "tests/cli_parse_util.h"
 #include "tests/env_test_util.h"
 
 namespace pt::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-CliOptions Parse(std::vector<const char*> args) {
-  args.insert(args.begin(), "pathtracer");
-  return ParseCli(int(args.size()), args.data());
-}
-
-std::string ParseError(std::vector<const char*> args) {
-  try {
-    Parse(std::move(args));
-  } catch (const CliError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(EnvCli, OptionsParse) {
   CliOptions d = Parse({"s.json", "-o", "o.png"});
