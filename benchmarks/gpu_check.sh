@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench special}"
+STEPS="${STEPS:-info tests sanitize bench special}"  # also: env (environment lighting)
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -59,4 +59,17 @@ if [[ " $STEPS " == *" special "* ]]; then
   python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
     $SCENES --variants "auto:auto:--specialize=on,auto:auto:--specialize=off" \
     --out "$OUT/bench_special" -- --spp 64
+fi
+
+if [[ " $STEPS " == *" env "* ]]; then
+  step "environment lighting: sun-and-sky scenes, and importance vs uniform vs BSDF-only"
+  MAP=benchmarks/scenes/maps/sunsky_2048.exr  # generated, not committed (see env_diffuse.json)
+  [ -f "$MAP" ] || { mkdir -p "$(dirname "$MAP")" && "$BIN/make_sky" -o "$MAP" --elevation 35 \
+    --azimuth 60 --turbidity 3 --width 2048 --strength 0.03; }
+  python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
+    --scene benchmarks/scenes/env_diffuse.json --scene benchmarks/scenes/env_glossy.json \
+    --scene benchmarks/scenes/breakfast_room_sunsky.json --out "$OUT/bench_env"
+  python3 benchmarks/accuracy_env.py --binary "$BIN/pathtracer" --backend cuda --size 640x480 \
+    --spps 16,64,256,1024 --ref-spp 32768 --label "$(nvidia-smi --query-gpu=name \
+    --format=csv,noheader | head -1)" --out "$OUT/accuracy_env"
 fi

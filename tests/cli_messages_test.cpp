@@ -100,8 +100,9 @@ TEST_F(CliMessages, WarningsForScenesThatRenderBlack) {
         << out;
     std::string expected = c.warning.empty()
                                ? "pathtracer: warning: the scene has no light (no emissive "
-                                 "material with radiance, no point light with intensity, a "
-                                 "black background): the image will be black"
+                                 "material with radiance, no point light with intensity, no "
+                                 "sun, a black background or environment): the image will be "
+                                 "black"
                                : c.warning;
     EXPECT_NE(out.find(expected), std::string::npos) << out;
   }

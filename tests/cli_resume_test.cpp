@@ -125,6 +125,9 @@ TEST_F(CliResume, AnotherSceneSizeCropSeedOrSettingIsRefused) {
            {" --integrator bsdf", "integrator"},
            {" --clamp 3", "firefly clamp"},
            {" --light-paths direct", "light paths"},
+           {" --env-strength 2", "environment (--env, --env-strength): the scene's in the "
+                                 "checkpoint, the scene's, strength 2.0 now"},
+           {" --env-sampling uniform", "environment sampling"},
        }) {
     SCOPED_TRACE(c.extra);
     EXPECT_EQ(Render("refused", cpu + resume + c.extra, &out), 2) << out;

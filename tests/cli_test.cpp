@@ -6,24 +6,13 @@
 #include <vector>
 
 #include "src/app/cli.h"
+#include "tests/cli_parse_util.h"
 
 namespace pt {
 namespace {
 
-CliOptions Parse(std::vector<const char*> args) {
-  args.insert(args.begin(), "pathtracer");
-  return ParseCli(int(args.size()), args.data());
-}
-
-// The parser's message, or "" when the command line was accepted.
-std::string ParseError(std::vector<const char*> args) {
-  try {
-    Parse(std::move(args));
-  } catch (const CliError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::Parse;
+using test::ParseError;
 
 bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

@@ -14,20 +14,6 @@ namespace {
 
 bool HaveGpu() { return CudaDeviceCount() > 0; }
 
-// Means over windows of two independent renders agree: z on the difference with the films'
-// variances. The call's count x 3 comparisons share a false-alarm budget of 1e-4 (Bonferroni).
-void ExpectWindowsAgree(const FilmImage& a, const FilmImage& b, int windows[][4], int count,
-                        const char* what) {
-  double z = TwoSidedNormalQuantile(1e-4 / (count * 3));
-  for (int w = 0; w < count; ++w)
-    for (int c = 0; c < 3; ++c) {
-      WindowMean ma = MeanOverWindow(a, c, windows[w][0], windows[w][1], windows[w][2], windows[w][3]);
-      WindowMean mb = MeanOverWindow(b, c, windows[w][0], windows[w][1], windows[w][2], windows[w][3]);
-      EXPECT_LT(std::abs(ma.mean - mb.mean), z * std::sqrt(ma.varianceOfMean + mb.varianceOfMean))
-          << what << " window " << w << " channel " << c << ": " << ma.mean << " vs " << mb.mean;
-    }
-}
-
 Scene CornellSmall(uint32_t seed, int spp) {
   SceneDesc d = LoadScene(SourcePath("scenes/cornell_glass_mirror.json"));
   d.render.width = d.render.height = 48;
@@ -56,8 +42,9 @@ TEST(FeatureAgreementGpu, TexturedCheckerMatchesTheCpu) {
     return BuildScene(LoadSceneFromString(json, "checker.json", dir));
   };
   FilmImage cpu = RenderOnCpu(scene(1)).image, gpu = RenderCuda(scene(2), {}).image;
-  int windows[4][4] = {{2, 2, 11, 11}, {21, 2, 30, 11}, {2, 21, 11, 30}, {21, 21, 30, 30}};
-  ExpectWindowsAgree(cpu, gpu, windows, 4, "texture quadrant");
+  std::vector<Window> windows = {
+      {2, 2, 11, 11}, {21, 2, 30, 11}, {2, 21, 11, 30}, {21, 21, 30, 30}};
+  ExpectWindowsAgree(cpu, gpu, windows, "texture quadrant");
 }
 
 TEST(FeatureAgreementGpu, AdaptiveSamplingMatchesTheCpu) {
@@ -68,8 +55,7 @@ TEST(FeatureAgreementGpu, AdaptiveSamplingMatchesTheCpu) {
   RenderResult cpu = RenderOnCpu(a, opt), gpu = RenderCuda(b, opt);
   EXPECT_LT(gpu.stats.sppMean, 64.0);  // some pixels converged on the GPU too
   EXPECT_NEAR(gpu.stats.sppMean, cpu.stats.sppMean, 0.1 * cpu.stats.sppMean);
-  int windows[4][4] = {{0, 0, 24, 24}, {24, 0, 48, 24}, {0, 24, 24, 48}, {24, 24, 48, 48}};
-  ExpectWindowsAgree(cpu.image, gpu.image, windows, 4, "adaptive quadrant");
+  ExpectWindowsAgree(cpu.image, gpu.image, BlockWindows(cpu.image, 2), "adaptive quadrant");
 }
 
 // Same seed, same kernels: direct and indirect split the GPU's own paths exactly.

@@ -185,6 +185,30 @@ const std::map<std::string, Expected>& Corpus() {
       {"mesh_gltf_empty_object.json", {"objects[0].file", "empty_object.gltf"}},
       {"mesh_gltf_empty_file.json", {"objects[0].file", "empty.gltf"}},
       {"mesh_obj_bad_index.json", {"objects[0].file", "bad_index.obj"}},
+      // Environment maps: missing, unreadable, of the wrong shape or with bad texels (the
+      // message names the map too); inconsistent environments and directional lights.
+      {"env_map_missing_file.json", {"environment.file", "no_such_map.exr"}},
+      {"env_map_nan_texel.json", {"environment.file", "not finite"}},
+      {"env_map_inf_texel.json", {"environment.file", "not finite"}},
+      {"env_map_negative_texel.json", {"environment.file", "is negative"}},
+      {"env_map_not_2to1.json", {"environment.file", "twice as wide"}},
+      {"env_map_truncated_exr.json", {"environment.file", "truncated.exr"}},
+      {"env_map_garbage_hdr.json", {"environment.file", "not a Radiance HDR"}},
+      {"env_map_png.json", {"environment.file", "unsupported environment map format"}},
+      {"env_map_file_is_a_folder.json", {"environment.file", "is a folder"}},
+      {"env_and_background.json", {"environment", "not both"}},
+      {"env_two_sources.json", {"environment", "exactly one"}},
+      {"env_no_source.json", {"environment", "exactly one"}},
+      {"env_unknown_field.json", {"environment.exposure", "unknown field"}},
+      {"env_negative_strength.json", {"environment.strength", ">= 0"}},
+      {"env_sky_elevation_negative.json", {"environment.sky.sun_elevation", "outside"}},
+      {"env_sky_turbidity_too_high.json", {"environment.sky.turbidity", "outside"}},
+      {"env_sky_width_odd.json", {"environment.sky.width", "multiple of 4"}},
+      {"directional_zero_direction.json", {"lights[0].direction", "zero vector"}},
+      {"directional_radiance_without_radius.json", {"lights[0].radiance", "angular_radius"}},
+      {"directional_irradiance_and_radiance.json", {"lights[0]", "exactly one"}},
+      {"directional_radius_90.json", {"lights[0].angular_radius", "outside"}},
+      {"directional_negative_irradiance.json", {"lights[0].irradiance[1]", ">= 0"}},
   };
   return corpus;
 }

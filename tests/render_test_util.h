@@ -2,6 +2,9 @@
 // and compare images statistically with tolerances derived from the film's own variance.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -53,6 +56,33 @@ inline double TwoSidedNormalQuantile(double p) {
     (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+// Means over windows {x0, y0, x1, y1} of two independent renders agree: z on the difference
+// with the films' variances. The call's windows x 3 comparisons share a false-alarm budget of
+// 1e-4 (Bonferroni).
+using Window = std::array<int, 4>;
+inline void ExpectWindowsAgree(const FilmImage& a, const FilmImage& b,
+                               const std::vector<Window>& windows, const char* what) {
+  double z = TwoSidedNormalQuantile(1e-4 / (windows.size() * 3));
+  for (size_t w = 0; w < windows.size(); ++w)
+    for (int c = 0; c < 3; ++c) {
+      const Window& r = windows[w];
+      WindowMean ma = MeanOverWindow(a, c, r[0], r[1], r[2], r[3]);
+      WindowMean mb = MeanOverWindow(b, c, r[0], r[1], r[2], r[3]);
+      EXPECT_LE(std::abs(ma.mean - mb.mean), z * std::sqrt(ma.varianceOfMean + mb.varianceOfMean))
+          << what << " window " << w << " channel " << c << ": " << ma.mean << " vs " << mb.mean;
+    }
+}
+
+// The image cut into a grid of blocks x blocks windows.
+inline std::vector<Window> BlockWindows(const FilmImage& img, int blocks) {
+  std::vector<Window> windows;
+  for (int by = 0; by < blocks; ++by)
+    for (int bx = 0; bx < blocks; ++bx)
+      windows.push_back({bx * img.width / blocks, by * img.height / blocks,
+                         (bx + 1) * img.width / blocks, (by + 1) * img.height / blocks});
+  return windows;
 }
 
 // Two-sided normal quantiles: z such that P(|Z| > z) = p.

@@ -55,6 +55,36 @@ TEST(SceneChecks, NoLightAtAll) {
   EXPECT_TRUE(DarkSceneWarnings(Build("", "", R"(, "background": [0.2, 0.2, 0.2])")).empty());
 }
 
+TEST(SceneChecks, SunsSkiesAndMapsAreLight) {
+  std::string sun = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [2, 2, 2]}])";
+  EXPECT_TRUE(DarkSceneWarnings(Build("", "", sun)).empty());
+  std::string sky = R"(, "environment": {"sky": {"sun_elevation": 40, "width": 16}})";
+  EXPECT_TRUE(DarkSceneWarnings(Build("", "", sky)).empty());
+  // A sun of zero irradiance lights nothing.
+  std::string darkSun = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [0, 0, 0]}])";
+  EXPECT_TRUE(Mentions(DarkSceneWarnings(Build("", "", darkSun)), "no light"));
+}
+
+TEST(SceneChecks, AnEnvironmentIsSeenWithoutObjects) {
+  auto warnings = [](const std::string& lighting) {
+    std::string text = R"({"render": {"width": 8, "height": 8, "spp": 1, "max_depth": 2},
+      "camera": {"position": [0, 1, 3], "look_at": [0, 0.5, 0], "fov_y": 45},
+      "materials": {}, "objects": [])" + lighting + "}";
+    return DarkSceneWarnings(BuildScene(LoadSceneFromString(text, "t.json", ".")));
+  };
+  EXPECT_TRUE(warnings(R"(, "environment": {"sky": {"sun_elevation": 40, "width": 16}})").empty());
+  // Hidden from the camera, it shows the camera colour: black is nothing to see.
+  EXPECT_TRUE(Mentions(warnings(R"(, "environment": {"radiance": [1, 1, 1], "visible_to_camera": false})"),
+                       "no objects"));
+  EXPECT_TRUE(warnings(R"(, "environment": {"radiance": [1, 1, 1], "visible_to_camera": false,
+                           "camera_color": [0.2, 0.2, 0.2]})").empty());
+  // A delta sun is never seen; a sun's disk is.
+  std::string sun = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [2, 2, 2]}])";
+  EXPECT_TRUE(Mentions(warnings(sun), "no objects"));
+  std::string disk = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [2, 2, 2], "angular_radius": 1}])";
+  EXPECT_TRUE(warnings(disk).empty());
+}
+
 TEST(SceneChecks, PointLightsWithNothingToSee) {
   std::string text = R"({"render": {"width": 8, "height": 8, "spp": 1, "max_depth": 2},
     "camera": {"position": [0, 1, 3], "look_at": [0, 0.5, 0], "fov_y": 45},

@@ -142,6 +142,17 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
+      {"--env-strength",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         char* end = nullptr;
+         double v = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0.0 || v > 1e30) {
+           throw CliError("bad value for --env-strength: '" + text + "' (a number >= 0)");
+         }
+         o.envStrength = float(v);
+       }},
       {"--max-paths",
        [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
       {"--clamp",
@@ -190,6 +201,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.integrator = ParseChoice<IntegratorMode>(
              s, {{"mis", IntegratorMode::kMis}, {"bsdf", IntegratorMode::kBsdf},
                  {"nee", IntegratorMode::kNee}});
+       }},
+      {"--env-sampling",
+       [](CliOptions& o, ValueSource& s) {
+         o.envSampling = ParseChoice<EnvSampling>(
+             s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
        }},
   };
   return table;

@@ -44,6 +44,9 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  std::string envPath;                // --env: replaces the scene's environment
+  std::optional<float> envStrength;   // --env-strength
+  EnvSampling envSampling = EnvSampling::kImportance;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
 

@@ -30,6 +30,13 @@ Image and sampling
   --clamp L                firefly clamp: scale each sample down to luminance L at most
                            (off by default; biased, and marked so in the stats)
 
+Environment
+  --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
+                           the scene's environment or background
+  --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
+  --env-sampling importance|uniform  how next-event estimation samples the map (default
+                           importance: by luminance x solid angle)
+
 Backend and performance
   --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)
   --threads N              CPU threads, 0 = all cores (default 0)

@@ -29,6 +29,8 @@ constexpr std::pair<const char*, const char*> kIdentity[] = {
     {"ray_offset", "ray offset"},
     {"tri_test", "triangle test"},
     {"adaptive", "adaptive sampling"},
+    {"environment", "environment (--env, --env-strength)"},
+    {"env_sampling", "environment sampling"},
 };
 
 const char* IntegratorName(IntegratorMode m) {
@@ -37,6 +39,15 @@ const char* IntegratorName(IntegratorMode m) {
 
 const char* LightPathsName(LightPaths l) {
   return l == LightPaths::kDirect ? "direct" : l == LightPaths::kIndirect ? "indirect" : "all";
+}
+
+// What the command line does to the scene's environment: a --env map (by content) and a
+// --env-strength; the scene's own environment is in scene_hash.
+std::string EnvironmentOverrides(const CliOptions& cli) {
+  std::string text = cli.envPath.empty() ? "the scene's"
+                                         : "--env map " + HashHex(HashFiles({cli.envPath}));
+  if (cli.envStrength) text += ", strength " + Json(*cli.envStrength).dump();
+  return text;
 }
 
 std::string Text(const Json& j) { return j.is_string() ? j.get<std::string>() : j.dump(); }
@@ -88,6 +99,8 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
                                                      : Json("robust")},
       {"tri_test", options.triangleTest == TriangleTest::kMollerTrumbore ? "mt" : "watertight"},
       {"adaptive", adaptive},
+      {"environment", EnvironmentOverrides(cli)},
+      {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
       {"film", options.filmDouble ? "double" : "float"},
   };
 }

@@ -14,7 +14,8 @@ namespace pt {
 
 // The render's identity and the facts a later run reports: the scene file and a hash of it
 // and the files it names, image size, crop, seed, spp, depth, roulette, integrator, light
-// paths, adaptive sampling, clamp, ray offsets, triangle test, and the film precision.
+// paths, adaptive sampling, clamp, ray offsets, triangle test, the environment's command-line
+// overrides and sampling, and the film precision.
 nlohmann::ordered_json DescribeRender(const CliOptions& cli, const Scene& scene,
                                       const RenderOptions& options, bool adaptive);
 

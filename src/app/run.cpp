@@ -13,6 +13,7 @@
 #include "src/app/resume.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
+#include "src/io/environment_loader.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/scene/effects.h"
@@ -35,6 +36,8 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   SceneDesc desc;
   try {
     desc = LoadScene(cli.scenePath);
+    if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
+    if (cli.envStrength) desc.environment.strength = *cli.envStrength;
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -46,6 +49,8 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   } catch (const CliError& e) {
     throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
   }
+  std::string dark = DarkEnvironmentWarning(desc);
+  if (!dark.empty()) desc.warnings.push_back(dark);
   for (const std::string& warning : desc.warnings) Warn(warning);
   return desc;
 }
@@ -123,6 +128,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.filmDouble = cli.filmDouble;
   options.specialize = cli.specialize;
   options.triangleTest = cli.triangleTest;
+  options.envSampling = cli.envSampling;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);

@@ -18,6 +18,7 @@ enum class SortMode { kAuto, kOff, kMaterial };
 enum class IntegratorMode { kMis, kBsdf, kNee };
 enum class LightPaths { kAll, kDirect, kIndirect };
 enum class TriangleTest { kWatertight, kMollerTrumbore };
+enum class EnvSampling { kImportance, kUniform };
 
 struct CropWindow {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1); empty = whole image
@@ -42,6 +43,7 @@ struct RenderOptions {
   bool specialize = true;            // stage variants specialised to the scene's effects
   TriangleTest triangleTest = TriangleTest::kWatertight;
   bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
+  EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
 };
 

@@ -196,22 +196,30 @@ class WavefrontIntegrator {
 
   // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette;
   // in the variant compiled for the scene's effects.
+  // The diffuse and smooth variants come with and without environment-map code; the
+  // general one always has it (a scene without a map skips it at run time).
   void Shade(const WaveInfo& wave, uint32_t n) {
     switch (featureClass_) {
-      case FeatureClass::kDiffuse: ShadeVariant<FeatureClass::kDiffuse>(wave, n); break;
-      case FeatureClass::kSmooth: ShadeVariant<FeatureClass::kSmooth>(wave, n); break;
-      default: ShadeVariant<FeatureClass::kGeneral>(wave, n); break;
+      case FeatureClass::kDiffuse:
+        if (envMap_) ShadeVariant<FeatureClass::kDiffuse, true>(wave, n);
+        else ShadeVariant<FeatureClass::kDiffuse, false>(wave, n);
+        break;
+      case FeatureClass::kSmooth:
+        if (envMap_) ShadeVariant<FeatureClass::kSmooth, true>(wave, n);
+        else ShadeVariant<FeatureClass::kSmooth, false>(wave, n);
+        break;
+      default: ShadeVariant<FeatureClass::kGeneral, true>(wave, n); break;
     }
   }
 
-  template <FeatureClass C>
+  template <FeatureClass C, bool kMap>
   void ShadeVariant(const WaveInfo& wave, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     IntegratorParams params = params_;
     const uint32_t* queue = queue_.Data();
     backend_.ParallelFor(Stage::kShade, n, [=] PT_HD(uint32_t i) {
-      ShadePath<C>(scene, params, wave, ps, queue[i]);
+      ShadePath<C, kMap>(scene, params, wave, ps, queue[i]);
     });
   }
 
@@ -318,6 +326,7 @@ class WavefrontIntegrator {
   FilmView film_{};
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
+  bool envMap_ = false;  // the scene has an environment map
   bool stopped_ = false;
   Buffer<Counter> counters_;
 

@@ -32,6 +32,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.specialize = o.specialize;
   options_.rayOffsetEpsilon = o.rayOffsetEpsilon;
   options_.triangleTest = o.triangleTest;
+  options_.envSampling = o.envSampling;
   options_.timeLimitSeconds = o.timeLimitSeconds;
   options_.previewEverySeconds = o.previewEverySeconds;
   options_.clampLuminance = o.clampLuminance;
@@ -41,10 +42,12 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   stats_.compactUsed = compact_;
   stats_.sortUsed = sort_;
   params_ = MakeParams(scene_.desc.render, options_);
-  featureClass_ = options_.specialize ? ChooseFeatureClass(AnalyzeEffects(scene_))
-                                      : FeatureClass::kGeneral;
+  uint32_t effects = AnalyzeEffects(scene_);
+  featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  envMap_ = (effects & kEffectEnvironmentMap) != 0;
   stats_.specialization = FeatureClassName(featureClass_);
   sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
+  sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
 }
 
 // The Scene was edited: its arrays again, and what the options derive from it.

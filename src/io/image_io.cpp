@@ -29,12 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string LowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 std::string FolderOf(const std::string& path) {
   fs::path parent = fs::path(path).parent_path();
@@ -107,6 +101,13 @@ std::string EncodeImageExr(const std::string& path, const FilmImage& image, bool
 }
 
 }  // namespace
+
+std::string LowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
 
 bool IsExrPath(const std::string& path) { return LowerExtension(path) == ".exr"; }
 

@@ -22,6 +22,8 @@ enum class ImageFormat { kPng, kExr, kPfm };
 // The format named by the path's extension (case-insensitive); false for any other.
 bool ImageFormatFromPath(const std::string& path, ImageFormat* format);
 bool IsExrPath(const std::string& path);
+// The path's extension in lower case, with its dot (".exr"); empty when it has none.
+std::string LowerExtension(const std::string& path);
 
 // --spp-map: samples per pixel as a heat map (PNG) or raw counts (EXR, PFM).
 void WriteSppMap(const std::string& path, const FilmImage& image);
@@ -45,6 +47,8 @@ bool CheckWritable(const std::string& path, std::string* why);
 // Linear RGB, rows top to bottom. Throw ImageError on a missing or malformed file.
 void ReadExrRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 void ReadPfmRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
+// Radiance .hdr (RGBE), through stb_image.
+void ReadHdrRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 // By extension: .exr or .pfm.
 void ReadImageRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb);
 

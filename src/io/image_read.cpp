@@ -1,5 +1,5 @@
-// Reading linear images back: EXR (any channel, half or float or uint) and PFM, for
-// --reference and for tests.
+// Reading linear images: EXR (any channel, half or float or uint), PFM and Radiance HDR, for
+// --reference, environment maps and tests.
 #include <algorithm>
 #include <bit>
 #include <cctype>
@@ -8,6 +8,17 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+// Static and HDR-only, so no other library's copy of stb_image can clash with this one.
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_HDR
+#define STBI_NO_STDIO
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb_image.h>
+#pragma GCC diagnostic pop
 
 #include "src/io/exr_codec.h"
 #include "src/io/image_io.h"
@@ -119,6 +130,21 @@ void ReadPfmRgb(const std::string& path, int* width, int* height, std::vector<fl
   }
   *width = int(wv);
   *height = int(hv);
+}
+
+void ReadHdrRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb) {
+  std::string data = ReadWholeFile(path);
+  if (data.size() > size_t(INT32_MAX)) throw ImageError(path + ": too large");
+  const auto* bytes = reinterpret_cast<const stbi_uc*>(data.data());
+  if (!stbi_is_hdr_from_memory(bytes, int(data.size())))
+    throw ImageError(path + ": not a Radiance HDR (RGBE) file");
+  int w = 0, h = 0, channels = 0;
+  float* pixels = stbi_loadf_from_memory(bytes, int(data.size()), &w, &h, &channels, 3);
+  if (!pixels) throw ImageError(path + ": cannot read HDR: " + stbi_failure_reason());
+  rgb->assign(pixels, pixels + size_t(w) * size_t(h) * 3);
+  stbi_image_free(pixels);
+  *width = w;
+  *height = h;
 }
 
 void ReadImageRgb(const std::string& path, int* width, int* height, std::vector<float>* rgb) {

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "src/geometry/box.h"
+#include "src/io/environment_loader.h"
 #include "src/io/gltf_loader.h"
 #include "src/io/obj_loader.h"
 #include "src/io/scene_json.h"
@@ -281,7 +282,13 @@ void ParseLights(const JsonObject& root, LoadState& state) {
   for (size_t i = 0; i < count; ++i) {
     JsonObject l(lights.Element(i));
     std::string type = l.String("type");
-    if (type != "point") l.Fail("type", "unknown light type \"" + type + "\" (expected point)");
+    if (type == "directional") {
+      state.scene.directionalLights.push_back(ParseDirectionalLight(l));
+      continue;
+    }
+    if (type != "point") {
+      l.Fail("type", "unknown light type \"" + type + "\" (expected point or directional)");
+    }
     l.AllowOnly({"type", "position", "intensity"}, "a point light");
     state.scene.pointLights.push_back(
         PointLightDesc{l.Vec3("position"), l.Vec3("intensity", Range::NonNegative())});
@@ -304,7 +311,8 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   Json json = ParseSceneJson(text, pathForMessages);
   JsonObject root(JsonValue(json, "", pathForMessages));
   CheckFormat(root);  // first: a later format may have fields this one does not know
-  root.AllowOnly({"format", "render", "camera", "background", "materials", "objects", "lights"},
+  root.AllowOnly({"format", "render", "camera", "background", "environment", "materials",
+                  "objects", "lights"},
                  "the scene");
   SceneDesc scene;
   scene.path = pathForMessages;
@@ -312,6 +320,12 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   scene.render = ParseRender(root.Object("render"));
   scene.camera = ParseCamera(root.Object("camera"));
   scene.background = root.Vec3Or("background", vec3(0.0f), Range::NonNegative());
+  if (root.Has("environment")) {
+    if (root.Has("background")) {
+      root.Fail("environment", "give either background (a constant) or environment, not both");
+    }
+    ParseEnvironment(root.Object("environment"), state.baseDir, scene);
+  }
   ParseMaterials(root, state);
   ParseObjects(root, state);
   ParseLights(root, state);

@@ -1,9 +1,12 @@
 // Next-event estimation: choosing a light by power, sampling a point or direction on it, and
 // the matching solid-angle pdfs for multiple importance sampling when a BSDF-sampled ray hits
 // an emitter. Every pdf here includes the probability of choosing the light.
+//
+// kMap = false compiles the environment map out (stage variants of scenes without one).
 #pragma once
 
 #include "src/core/sampling.h"
+#include "src/lights/env_map.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -14,8 +17,8 @@ struct LightLiSample {
   float pdf = 0.0f;          // solid angle x choice probability; delta: choice probability
   vec3 pLight = vec3(0.0f);  // the sampled point (background: a point beyond the scene)
   vec3 nLight = vec3(0.0f);  // unit geometric normal there (point: 0; background: -wi)
-  bool isDelta = false;      // point light: MIS does not apply
-  bool isInfinite = false;   // background: trace the shadow ray unbounded
+  bool isDelta = false;      // point light, delta directional: MIS does not apply
+  bool isInfinite = false;   // background, directional, map: trace the shadow ray unbounded
   int lightIndex = -1;       // which entry of SceneView::lights was chosen
 };
 
@@ -164,11 +167,46 @@ PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, v
   return *solidAnglePdf > 0.0f;
 }
 
+// ---- Distant lights ----
+
+// Whether unit w lies in the directional light's cone: |w - axis|^2 = 2 (1 - cos), exact for
+// the sun's tiny cone where a dot product near 1 would round the rim away.
+PT_HDI bool InDirectionalCone(const Light& light, vec3 w) {
+  vec3 d = w - light.direction;
+  return glm::dot(d, d) <= 2.0f * light.oneMinusCos;
+}
+
+// Solid-angle pdf of the cone's uniform sampling (0 for a delta light).
+PT_HDI float DirectionalConePdf(const Light& light) {
+  return light.IsDeltaDirection() ? 0.0f : 1.0f / (2.0f * kPi * light.oneMinusCos);
+}
+
+// A direction uniform in the cone, from 1 - cos(theta) so that the sun's disk keeps its size.
+PT_HDI vec3 SampleDirectionalCone(const Light& light, vec2 u) {
+  float omc = u.x * light.oneMinusCos;
+  float sinTheta = SafeSqrt(omc * (2.0f - omc));
+  float phi = 2.0f * kPi * u.y;
+  vec3 local(sinTheta * cosf(phi), sinTheta * sinf(phi), 1.0f - omc);
+  return glm::normalize(Frame::FromZ(light.direction).FromLocal(local));
+}
+
+// Fills the parts of a sample from a light at infinity along wi.
+PT_HDI void SetInfiniteSample(const SceneView& s, vec3 refP, vec3 wi, LightLiSample* out) {
+  out->wi = wi;
+  // A point surely outside the scene's bounding sphere; shadow rays are still traced
+  // unbounded (isInfinite).
+  float reach = 2.0f * (s.sceneRadius + glm::length(refP - s.sceneCenter));
+  out->pLight = refP + reach * wi;
+  out->nLight = -wi;
+  out->isInfinite = true;
+}
+
 // ---- Entry points ----
 
 // Chooses a light with uLight (by power) and a point or direction on it with u.
 // Returns false when the sample carries no light (back face of a one-sided emitter, degenerate
 // geometry, no lights); the caller then skips the shadow ray.
+template <bool kMap = true>
 PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
                           LightLiSample* out) {
   int index = SampleLightIndex(s, uLight);
@@ -204,17 +242,30 @@ PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
       return true;
     }
     case LightType::kBackground: {
-      vec3 wi = SampleUniformSphere(u);
-      out->wi = wi;
+      SetInfiniteSample(s, refP, SampleUniformSphere(u), out);
       out->L = light.radiance;
       out->pdf = pmf * UniformSpherePdf();
-      // A point surely outside the scene's bounding sphere; shadow rays should still be
-      // traced unbounded (isInfinite).
-      float reach = 2.0f * (s.sceneRadius + glm::length(refP - s.sceneCenter));
-      out->pLight = refP + reach * wi;
-      out->nLight = -wi;
-      out->isInfinite = true;
       return true;
+    }
+    case LightType::kDirectional: {
+      bool delta = light.IsDeltaDirection();
+      SetInfiniteSample(s, refP, delta ? light.direction : SampleDirectionalCone(light, u), out);
+      out->L = delta ? light.irradiance : light.radiance;
+      out->pdf = delta ? pmf : pmf * DirectionalConePdf(light);
+      out->isDelta = delta;
+      return true;
+    }
+    case LightType::kEnvironmentMap: {
+      if constexpr (kMap) {
+        vec3 wi, L;
+        float pdf;
+        if (!SampleEnvMap(s, u, &wi, &L, &pdf)) return false;
+        SetInfiniteSample(s, refP, wi, out);
+        out->L = L;
+        out->pdf = pmf * pdf;
+        return true;
+      }
+      return false;
     }
   }
   return false;
@@ -222,7 +273,9 @@ PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
 
 // Solid-angle pdf, with the choice probability, that SampleLightLi from refP produces the
 // point pLight (unit geometric normal nLight, the shape's front) of light lightIndex. For MIS
-// when a BSDF-sampled ray hits an emitter. 0 for point lights (they cannot be hit).
+// when a BSDF-sampled ray hits an emitter. 0 for delta lights (they cannot be hit). Lights at
+// infinity take the direction towards pLight.
+template <bool kMap = true>
 PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight, vec3 nLight) {
   if (lightIndex < 0 || uint32_t(lightIndex) >= s.lightCount) return 0.0f;
   const Light& light = s.lights[lightIndex];
@@ -231,6 +284,13 @@ PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight
     case LightType::kArea: return pmf * AreaLightPdf(s, light, refP, pLight, nLight);
     case LightType::kPoint: return 0.0f;
     case LightType::kBackground: return pmf * UniformSpherePdf();
+    case LightType::kDirectional: {
+      vec3 w = glm::normalize(pLight - refP);
+      return InDirectionalCone(light, w) ? pmf * DirectionalConePdf(light) : 0.0f;
+    }
+    case LightType::kEnvironmentMap:
+      if constexpr (kMap) return pmf * EnvMapPdf(s, glm::normalize(pLight - refP));
+      return 0.0f;
   }
   return 0.0f;
 }
@@ -240,6 +300,19 @@ PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight
 PT_HDI float BackgroundLightPdf(const SceneView& s) {
   if (s.backgroundLight < 0) return 0.0f;
   return s.lightPmf[s.backgroundLight] * UniformSpherePdf();
+}
+
+// Radiance of the environment map along an escaped direction w, and the pdf (choice
+// included) that next-event estimation samples w; zero when there is no map light.
+template <bool kMap>
+PT_HDI vec3 EnvMapLightLe(const SceneView& s, vec3 w, float* lightPdf) {
+  *lightPdf = 0.0f;
+  if constexpr (kMap) {
+    if (s.env.light < 0) return vec3(0.0f);
+    *lightPdf = s.lightPmf[s.env.light] * EnvMapPdf(s, w);
+    return EnvMapLe(s, w);
+  }
+  return vec3(0.0f);
 }
 
 }  // namespace pt

@@ -1,5 +1,6 @@
 #include "src/lights/light_table.h"
 
+#include "src/lights/environment.h"
 #include "src/lights/light_sample.h"
 
 namespace pt {
@@ -50,6 +51,17 @@ double LightPower(const Scene& scene, const Light& light) {
       double r = scene.sceneRadius;
       return double(Luminance(light.radiance)) * 4.0 * double(kPi) * double(kPi) * r * r;
     }
+    case LightType::kDirectional: {
+      // pbrt-v4 DistantLight::Phi: the irradiance over the disk of the bounding sphere.
+      double r = scene.sceneRadius;
+      return double(Luminance(light.irradiance)) * double(kPi) * r * r;
+    }
+    case LightType::kEnvironmentMap: {
+      // pbrt-v4 ImageInfiniteLight::Phi: the integral of radiance over directions times the
+      // disk of the bounding sphere.
+      double r = scene.sceneRadius;
+      return EnvironmentMapLuminanceIntegral(scene) * double(kPi) * r * r;
+    }
   }
   return 0.0;
 }
@@ -78,11 +90,25 @@ void BuildLightTable(Scene& scene) {
     light.intensity = point.intensity;
     scene.lights.push_back(light);
   }
-  if (!IsBlack(desc.background)) {
+  scene.distantLights.clear();
+  for (const DirectionalLightDesc& d : desc.directionalLights) {
+    Light light = MakeDirectionalLight(d, desc.environment);
+    if (IsBlack(light.irradiance)) continue;
+    if (!light.IsDeltaDirection()) scene.distantLights.push_back(uint32_t(scene.lights.size()));
+    scene.lights.push_back(light);
+  }
+  if (!IsBlack(desc.background * desc.environment.strength)) {
     Light light;
     light.type = LightType::kBackground;
-    light.radiance = desc.background;
+    light.radiance = desc.background * desc.environment.strength;
     scene.backgroundLight = int32_t(scene.lights.size());
+    scene.lights.push_back(light);
+  }
+  BuildEnvironmentMap(scene);
+  if (EnvironmentMapLuminanceIntegral(scene) > 0.0) {
+    Light light;
+    light.type = LightType::kEnvironmentMap;
+    scene.env.light = int32_t(scene.lights.size());
     scene.lights.push_back(light);
   }
   std::vector<double> power;

@@ -84,7 +84,9 @@ SceneView HostSceneView(const Scene& scene) {
   v.materialCount = uint32_t(d.materials.size());
   v.lightCount = uint32_t(scene.lights.size());
   v.backgroundLight = scene.backgroundLight;
-  v.background = d.background;
+  v.distantLightCount = uint32_t(scene.distantLights.size());
+  v.env = scene.env;
+  v.background = d.background * d.environment.strength;
   v.sceneCenter = scene.sceneCenter;
   v.sceneRadius = scene.sceneRadius;
   v.camera = scene.camera;

@@ -27,7 +27,11 @@ uint32_t AnalyzeEffects(const Scene& scene) {
     if (l.type == LightType::kArea) e |= kEffectAreaLights;
     if (l.type == LightType::kPoint) e |= kEffectPointLights;
     if (l.type == LightType::kBackground) e |= kEffectBackgroundLight;
+    if (l.type == LightType::kDirectional) e |= kEffectDirectionalLights;
   }
+  // The map's code runs whenever there is a map, even a dark one the camera sees.
+  if (d.environment.HasMap()) e |= kEffectEnvironmentMap;
+  if (!d.directionalLights.empty()) e |= kEffectDirectionalLights;
   if (!d.pointLights.empty()) e |= kEffectPointLights;
   if (d.camera.apertureRadius > 0.0f) e |= kEffectDepthOfField;
   return e;
@@ -37,7 +41,8 @@ std::vector<std::string> EffectNames(uint32_t effects) {
   static const char* kNames[] = {"diffuse",      "emissive",        "conductor",
                                  "dielectric",   "plastic",         "absorption",
                                  "rough_lobes",  "textures",        "depth_of_field",
-                                 "area_lights",  "point_lights",    "background_light"};
+                                 "area_lights",  "point_lights",    "background_light",
+                                 "directional_lights", "environment_map"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);

@@ -23,6 +23,8 @@ enum Effect : uint32_t {
   kEffectAreaLights = 1u << 9,
   kEffectPointLights = 1u << 10,
   kEffectBackgroundLight = 1u << 11,
+  kEffectDirectionalLights = 1u << 12,  // distant lights: delta, or a cone (a sun disk)
+  kEffectEnvironmentMap = 1u << 13,     // an image (or baked sky) environment: map code runs
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.

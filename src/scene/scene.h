@@ -40,12 +40,53 @@ struct PointLightDesc {
   vec3 intensity;
 };
 
+// A distant light: irradiance (W/m^2) on a plane facing it, from a cone of directions of
+// half-angle angularRadius (radians) about `direction` (towards the light), uniform radiance
+// irradiance / (pi sin^2 angularRadius) inside it; angularRadius 0 is a delta light. A sun of
+// the environment's sky (partOfEnvironment) turns with environment.rotate and scales with
+// environment.strength.
+struct DirectionalLightDesc {
+  vec3 direction = vec3(0.0f, 1.0f, 0.0f);
+  vec3 irradiance = vec3(0.0f);
+  float angularRadius = 0.0f;
+  bool partOfEnvironment = false;
+};
+
+// The analytic sky (src/lights/sky.h): Preetham et al. 1999 for the sky dome, a ground of
+// constant radiance below the horizon, and optionally the sun as a directional light.
+struct SkyDesc {
+  vec3 sunDirection = vec3(0.0f, 1.0f, 0.0f);  // unit, towards the sun, in the map's frame
+  float turbidity = 3.0f;                      // [1.7, 10]: clear to hazy
+  vec3 groundAlbedo = vec3(0.3f);
+  bool sun = true;                             // add the sun disk as a directional light
+  int width = 1024;                            // of the map the sky is baked into (2:1)
+};
+
+// The environment: what rays that leave the scene see. A constant `background` (SceneDesc),
+// or an equirectangular map (read from a file, or an analytic sky baked at load) turned by
+// `rotateDegrees` (as object transforms: Rz * Ry * Rx) and scaled by `strength`.
+struct EnvironmentDesc {
+  std::string file;   // the map's file as given; empty for a sky or no map
+  std::string field;  // where it was named ("environment.file", "--env"), for messages
+  bool isSky = false;
+  SkyDesc sky;
+  uint32_t width = 0, height = 0;  // 0: no map
+  std::vector<vec3> texels;        // linear RGB, rows top to bottom
+  float strength = 1.0f;
+  vec3 rotateDegrees = vec3(0.0f);
+  bool visibleToCamera = true;     // false: camera rays that escape see cameraColor
+  vec3 cameraColor = vec3(0.0f);
+
+  bool HasMap() const { return width > 0 && height > 0; }
+};
+
 // Everything the loader hands over. Shapes are already in world space.
 struct SceneDesc {
   std::string path;  // the scene file, for messages
   RenderSettings render;
   CameraDesc camera;
   vec3 background = vec3(0.0f);
+  EnvironmentDesc environment;
 
   std::vector<Material> materials;
   std::vector<std::string> materialNames;  // same order as materials
@@ -59,6 +100,7 @@ struct SceneDesc {
   std::vector<Sphere> spheres;
   std::vector<uint32_t> sphereMaterials;
   std::vector<PointLightDesc> pointLights;
+  std::vector<DirectionalLightDesc> directionalLights;
   std::vector<Texture> textures;
   std::vector<vec3> texels;  // linear RGB of every texture, back to back
 
@@ -80,6 +122,9 @@ struct Scene {
   std::vector<PrimRef> prims;  // BVH leaf order
   std::vector<Light> lights;
   std::vector<float> lightPmf, lightCdf;
+  std::vector<uint32_t> distantLights;        // directional lights with a cone
+  std::vector<float> envRowCdf, envColumnCdf;  // the map's sampling distribution
+  EnvironmentView env;
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;

@@ -113,7 +113,23 @@ std::vector<std::string> BackFacingEmitters(const Scene& scene) {
 
 bool HasLight(const Scene& scene) {
   return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& light) {
-    return light.type == LightType::kPoint ? !IsBlack(light.intensity) : !IsBlack(light.radiance);
+    switch (light.type) {
+      case LightType::kPoint: return !IsBlack(light.intensity);
+      case LightType::kDirectional: return !IsBlack(light.irradiance);
+      case LightType::kEnvironmentMap: return true;  // only built when some texel emits
+      default: return !IsBlack(light.radiance);
+    }
+  });
+}
+
+// Camera rays that escape see something: the environment (a constant, a map, a sun's disk)
+// or, where it is hidden from the camera, a coloured backdrop.
+bool EnvironmentSeen(const Scene& scene) {
+  const EnvironmentDesc& env = scene.desc.environment;
+  if (!env.visibleToCamera) return !IsBlack(env.cameraColor);
+  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& light) {
+    return light.type == LightType::kBackground || light.type == LightType::kEnvironmentMap ||
+           (light.type == LightType::kDirectional && !light.IsDeltaDirection());
   });
 }
 
@@ -122,11 +138,11 @@ bool HasLight(const Scene& scene) {
 std::vector<std::string> DarkSceneWarnings(const Scene& scene) {
   if (!HasLight(scene)) {
     return {"the scene has no light (no emissive material with radiance, no point light with "
-            "intensity, a black background): the image will be black"};
+            "intensity, no sun, a black background or environment): the image will be black"};
   }
-  if (scene.prims.empty() && IsBlack(scene.desc.background)) {
-    return {"the scene has no objects and a black background: point lights alone are never "
-            "seen, so the image will be black"};
+  if (scene.prims.empty() && !EnvironmentSeen(scene)) {
+    return {"the scene has no objects and a black background: point lights and delta suns "
+            "alone are never seen, so the image will be black"};
   }
   return BackFacingEmitters(scene);
 }

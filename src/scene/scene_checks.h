@@ -9,8 +9,9 @@
 
 namespace pt {
 
-// Finds: no light at all (no emitter with radiance, no point light with intensity, a black
-// background); nothing to see (no objects, a black background); an emissive material all of
+// Finds: no light at all (no emitter with radiance, no point light with intensity, no sun or
+// environment map, a black background); nothing to see (no objects, and camera rays that
+// escape see black); an emissive material all of
 // whose one-sided surfaces face away from the camera and from every other primitive (it lights
 // nothing and is never seen).
 std::vector<std::string> DarkSceneWarnings(const Scene& scene);

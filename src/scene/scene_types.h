@@ -76,15 +76,51 @@ struct Texture {
 };
 
 // ---- Lights ----
-enum class LightType : uint32_t { kArea = 0, kPoint = 1, kBackground = 2 };
+// kBackground is the constant environment; kEnvironmentMap the image one (its texels and
+// sampling tables are SceneView arrays, its frame SceneView::env); kDirectional a distant
+// light: a delta direction, or a cone of directions (a sun disk) sampled uniformly.
+enum class LightType : uint32_t {
+  kArea = 0,
+  kPoint = 1,
+  kBackground = 2,
+  kDirectional = 3,
+  kEnvironmentMap = 4,
+};
 
 struct Light {
   LightType type = LightType::kArea;
   uint32_t prim = 0;          // area: index into the BVH-ordered PrimRef array
-  vec3 radiance = vec3(0.0f);  // area and background: emitted radiance
+  vec3 radiance = vec3(0.0f);  // area, background, directional disk: emitted radiance
   vec3 position = vec3(0.0f);  // point
   vec3 intensity = vec3(0.0f);  // point: W/sr
   uint32_t twoSided = 0;      // area
+  // Directional: unit direction from the scene towards the light; the irradiance it gives a
+  // plane facing it (W/m^2); the cone's half-angle as cos and as 1 - cos, the latter exact
+  // for the sun's tiny cone where the difference would cancel. oneMinusCos == 0: a delta light.
+  vec3 direction = vec3(0.0f, 1.0f, 0.0f);
+  vec3 irradiance = vec3(0.0f);
+  float cosAngle = 1.0f;
+  float oneMinusCos = 0.0f;
+
+  PT_HDI bool IsDeltaDirection() const { return oneMinusCos <= 0.0f; }
+};
+
+// Where an equirectangular environment map sits in the world and how it is sampled. Texel
+// (i, j) (column i of width, row j of height, row 0 at the top) covers, in the map's frame,
+// u = (i, i+1) / width and v = (j, j+1) / height with direction
+//   theta = pi v (from +Y), phi = 2 pi (u - 1/2) (from -Z towards +X):
+//   d = (sin theta sin phi, cos theta, -sin theta cos phi),
+// so the image's centre column faces -Z, its top row +Y, and u grows towards +X.
+// Camera rays that escape see cameraColor instead of the environment when hiddenFromCamera.
+struct EnvironmentView {
+  uint32_t width = 0, height = 0;  // 0: no map
+  uint32_t uniformSampling = 0;    // 1: sample the sphere uniformly (--env-sampling uniform)
+  int32_t light = -1;              // the map's index in the lights, -1 when it emits nothing
+  float strength = 1.0f;           // radiance = strength x texel
+  uint32_t hiddenFromCamera = 0;
+  vec3 cameraColor = vec3(0.0f);
+  mat3 toLocal = mat3(1.0f);       // world direction -> the map's frame (the inverse rotate)
+  mat3 toWorld = mat3(1.0f);
 };
 
 // ---- BVH ----

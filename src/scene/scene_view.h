@@ -25,7 +25,12 @@ namespace pt {
   X(vec3, texels, s.desc.texels)                                                            \
   X(Light, lights, s.lights)                                                                \
   X(float, lightPmf, s.lightPmf) /* probability of choosing each light */                   \
-  X(float, lightCdf, s.lightCdf) /* lightCount + 1 entries, [0] = 0, last = 1 */
+  X(float, lightCdf, s.lightCdf) /* lightCount + 1 entries, [0] = 0, last = 1 */            \
+  X(uint32_t, distantLights, s.distantLights) /* directional lights escaped rays can hit */ \
+  /* The environment map: texels (rows top to bottom), then its sampling distribution. */   \
+  X(vec3, envTexels, s.desc.environment.texels)                                             \
+  X(float, envRowCdf, s.envRowCdf) /* height + 1 entries over rows */                       \
+  X(float, envColumnCdf, s.envColumnCdf) /* width + 1 entries per row */
 
 struct SceneView {
 #define PT_SCENE_VIEW_FIELD(Type, name, host) const Type* name = nullptr;
@@ -38,11 +43,13 @@ struct SceneView {
   uint32_t materialCount = 0;
   uint32_t lightCount = 0;
   int32_t backgroundLight = -1;     // index of the background in lights, or -1 when black
+  uint32_t distantLightCount = 0;   // directional lights with an angular radius
 
   vec3 background = vec3(0.0f);
   vec3 sceneCenter = vec3(0.0f);    // bounding sphere, for the background light's power
   float sceneRadius = 1.0f;
 
+  EnvironmentView env;
   Camera camera;
 };
 

@@ -30,6 +30,32 @@ PT_HDI float EmitterHitWeight(IntegratorKind kind, uint32_t flags, float prevPdf
   }
 }
 
+// What a ray that leaves the scene along unit w gathers, each light at infinity weighted by
+// MIS against its own light-sampling pdf: the constant background, the environment map and
+// the directional lights with a cone (a sun disk). Delta directional lights cannot be hit.
+template <bool kMap>
+PT_HDI vec3 EscapedRadiance(const SceneView& scene, IntegratorKind kind, uint32_t flags,
+                            float prevPdf, vec3 w, vec3 beta) {
+  vec3 radiance(0.0f);
+  if (scene.backgroundLight >= 0) {
+    float weight = EmitterHitWeight(kind, flags, prevPdf, BackgroundLightPdf(scene));
+    radiance += beta * scene.background * weight;
+  }
+  if constexpr (kMap) {
+    float lightPdf;
+    vec3 le = EnvMapLightLe<kMap>(scene, w, &lightPdf);
+    if (!IsBlack(le)) radiance += beta * le * EmitterHitWeight(kind, flags, prevPdf, lightPdf);
+  }
+  for (uint32_t k = 0; k < scene.distantLightCount; ++k) {
+    uint32_t index = scene.distantLights[k];
+    const Light& light = scene.lights[index];
+    if (!InDirectionalCone(light, w)) continue;
+    float lightPdf = scene.lightPmf[index] * DirectionalConePdf(light);
+    radiance += beta * light.radiance * EmitterHitWeight(kind, flags, prevPdf, lightPdf);
+  }
+  return radiance;
+}
+
 // Where a new ray starts: past the hit point's error bounds (robust), or, for the robustness
 // study only, a fixed distance along the normal (--ray-offset EPS).
 PT_HDI vec3 SpawnOrigin(const IntegratorParams& params, const SurfaceInteraction& si, vec3 w) {
@@ -71,13 +97,13 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 
 // Next-event estimation at a non-delta vertex: sample a light, and queue the shadow ray that
 // decides whether its (MIS-weighted) contribution counts.
-template <FeatureClass C>
+template <FeatureClass C, bool kMap>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const Material& mat, const Frame& frame,
                              vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
                              uint32_t id) {
   LightLiSample ls;
-  if (!SampleLightLi(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
+  if (!SampleLightLi<kMap>(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
   // Interpolated normals: a direction on the shading normal's side but through the geometric
   // surface (or the reverse) would start its shadow ray on the wrong side, a light leak.
@@ -126,7 +152,8 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   return true;
 }
 
-template <FeatureClass C>
+// kMap: whether the scene has an environment map (its code is compiled out otherwise).
+template <FeatureClass C, bool kMap>
 PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
                       const WaveInfo& wave, PathState ps, uint32_t id) {
   uint32_t flags = ps.flags[id];
@@ -145,11 +172,12 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
     if (!IsBlack(sigma)) beta *= glm::exp(-sigma * hit.t);
   }
 
-  if (hit.prim == HitRecord::kNoHit) {  // escaped: the background is a light
+  if (hit.prim == HitRecord::kNoHit) {  // escaped: the environment and sun disks are lights
     if (params.featureBuffers && depth == 0) WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
-    if (scene.backgroundLight >= 0 && params.Counts(depth)) {
-      float w = EmitterHitWeight(params.kind, flags, prevPdf, BackgroundLightPdf(scene));
-      radiance += beta * scene.background * w;
+    if (depth == 0 && scene.env.hiddenFromCamera) {
+      if (params.Counts(0)) radiance += beta * scene.env.cameraColor;
+    } else if (params.Counts(depth)) {
+      radiance += EscapedRadiance<kMap>(scene, params.kind, flags, prevPdf, ray.d, beta);
     }
     TerminatePath(ps, id, flags, radiance);
     return;
@@ -163,7 +191,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   if (mat.type == MaterialType::kEmissive) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
     if (!IsBlack(le) && si.light >= 0 && params.Counts(depth)) {
-      float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
+      float lightPdf = LightPdf<kMap>(scene, si.light, ray.o, si.p, si.ng);
       radiance += beta * le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
     }
     TerminatePath(ps, id, flags, radiance);
@@ -180,7 +208,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) &&
       HasNonDeltaLobeFor<C>(mat)) {
     vec4 uLight = key.Draw4(depth, kDimLight);
-    if (QueueLightSample<C>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng), beta,
+    if (QueueLightSample<C, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng), beta,
                             uLight, ps, id))
       flags |= kFlagShadow;
   }
