@@ -7,8 +7,9 @@
 #include <vector>
 
 #include "src/geometry/shapes.h"
-#include "src/io/gltf_loader.h"
+#include "src/materials/resolve.h"
 #include "src/materials/texture.h"
+#include "src/materials/texture_pyramid.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 #include "tests/texture_test_util.h"
@@ -16,15 +17,16 @@
 namespace pt {
 namespace {
 
-// A 4 x 2 texture whose texel (x, y) holds (x, y, 1): every tap is identifiable.
+// A 4 x 2 texture whose texel (x, y) holds the linear codes (60 x, 60 y, 60, 255): scaled by
+// 255 / 60, every tap reads (x, y, 1) and is identifiable.
 struct TinyTexture {
   std::vector<Texture> textures;
-  std::vector<vec3> texels;
+  std::vector<uint32_t> texels;
   SceneView view;
 
   explicit TinyTexture(TextureWrap wrapS, TextureWrap wrapT = TextureWrap::kRepeat) {
     for (int y = 0; y < 2; ++y)
-      for (int x = 0; x < 4; ++x) texels.push_back(vec3(float(x), float(y), 1.0f));
+      for (int x = 0; x < 4; ++x) texels.push_back(PackRgba8(60 * x, 60 * y, 60, 255));
     Texture t;
     t.width = 4;
     t.height = 2;
@@ -34,14 +36,15 @@ struct TinyTexture {
     view.textures = textures.data();
     view.texels = texels.data();
   }
+  vec3 At(vec2 uv) const { return vec3(SampleTexture(view, 0, uv)) * (255.0f / 60.0f); }
   // The texel coordinate x (column, continuous; centres at integers) on row 0, as u.
-  vec3 AtColumn(float x) const { return SampleTexture(view, 0, vec2((x + 0.5f) / 4.0f, 0.25f)); }
+  vec3 AtColumn(float x) const { return At(vec2((x + 0.5f) / 4.0f, 0.25f)); }
 };
 
 void ExpectVec(vec3 got, vec3 want, const char* what) {
-  EXPECT_NEAR(got.x, want.x, 1e-6f) << what;
-  EXPECT_NEAR(got.y, want.y, 1e-6f) << what;
-  EXPECT_NEAR(got.z, want.z, 1e-6f) << what;
+  EXPECT_NEAR(got.x, want.x, 2e-6f) << what;
+  EXPECT_NEAR(got.y, want.y, 2e-6f) << what;
+  EXPECT_NEAR(got.z, want.z, 2e-6f) << what;
 }
 
 TEST(TextureSample, TexelCentresAndBilinearWeights) {
@@ -49,10 +52,10 @@ TEST(TextureSample, TexelCentresAndBilinearWeights) {
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 4; ++x) {
       vec2 uv((x + 0.5f) / 4.0f, (y + 0.5f) / 2.0f);  // v runs down the image's rows
-      ExpectVec(SampleTexture(t.view, 0, uv), vec3(x, y, 1), "texel centre");
+      ExpectVec(t.At(uv), vec3(x, y, 1), "texel centre");
     }
   // A quarter of a texel right of column 1 and down from row 0: weights 3/4, 1/4 on each axis.
-  vec3 v = SampleTexture(t.view, 0, vec2((1.25f + 0.5f) / 4.0f, (0.25f + 0.5f) / 2.0f));
+  vec3 v = t.At(vec2((1.25f + 0.5f) / 4.0f, (0.25f + 0.5f) / 2.0f));
   ExpectVec(v, vec3(0.75f * 1 + 0.25f * 2, 0.75f * 0 + 0.25f * 1, 1), "bilinear");
   ExpectVec(t.AtColumn(2.5f), vec3(2.5f, 0, 1), "halfway");
 }
@@ -63,9 +66,9 @@ TEST(TextureSample, RepeatWrapsAroundBothEdges) {
   ExpectVec(t.AtColumn(3.25f), vec3(0.75f * 3 + 0.25f * 0, 0, 1), "past the right edge");
   ExpectVec(t.AtColumn(1.0f + 4.0f * 7), vec3(1, 0, 1), "seven periods on");
   ExpectVec(t.AtColumn(1.0f - 4.0f * 3), vec3(1, 0, 1), "three periods back");
-  ExpectVec(SampleTexture(t.view, 0, vec2(1.0e6f + 0.125f, 0.25f)), vec3(0, 0, 1), "u = 1e6 + 1/8");
+  ExpectVec(t.At(vec2(1.0e6f + 0.125f, 0.25f)), vec3(0, 0, 1), "u = 1e6 + 1/8");
   // Rows: v = 0 sits between row 0 and row 1 (repeat), at half weight each.
-  ExpectVec(SampleTexture(t.view, 0, vec2(0.125f, 0.0f)), vec3(0, 0.5f, 1), "v = 0");
+  ExpectVec(t.At(vec2(0.125f, 0.0f)), vec3(0, 0.5f, 1), "v = 0");
 }
 
 TEST(TextureSample, ClampHoldsTheEdgeTexels) {
@@ -94,12 +97,14 @@ TEST(TextureSample, NonFiniteCoordinatesStayFinite) {
   for (TextureWrap w : {TextureWrap::kRepeat, TextureWrap::kClampToEdge, TextureWrap::kMirroredRepeat}) {
     TinyTexture t(w, w);
     for (float bad : {NAN, INFINITY, -INFINITY, 3.0e38f}) {
-      vec3 v = SampleTexture(t.view, 0, vec2(bad, bad));
+      vec3 v = t.At(vec2(bad, bad));
       EXPECT_TRUE(IsFinite(v)) << "wrap " << int(w) << " coordinate " << bad;
     }
   }
 }
 
+// A non-glTF material with a base colour texture (on a quad, whose texture coordinates are its
+// (s, t) parameters): the texture multiplies the factor; without one the factor stands.
 TEST(TextureSample, ResolveMaterialMultipliesTheFactor) {
   TinyTexture t(TextureWrap::kClampToEdge);
   Material m;
@@ -108,13 +113,20 @@ TEST(TextureSample, ResolveMaterialMultipliesTheFactor) {
   Material plain = m;
   plain.baseColorTexture = -1;
   std::vector<Material> materials = {m, plain};
+  std::vector<TextureRef> refs(1);
+  refs[0].texture = 0;
+  std::vector<Quad> quads = {Quad{vec3(0.0f), vec3(1, 0, 0), vec3(0, 1, 0)}};
   t.view.materials = materials.data();
+  t.view.textureRefs = refs.data();
+  t.view.quads = quads.data();
+  PrimRef ref{PrimRef::Pack(ShapeType::kQuad, 0), 0, -1};
   SurfaceInteraction si;
   si.material = 0;
-  si.texUv = vec2(2.5f / 4.0f, 1.5f / 2.0f);  // texel (2, 1)
-  ExpectVec(ResolveMaterial(t.view, si).albedo, vec3(0.5f * 2, 0.25f * 1, 1.0f), "textured");
+  si.uv = vec2(2.5f / 4.0f, 1.5f / 2.0f);  // texel (2, 1): codes (120, 60, 60)
+  ExpectVec(ResolveMaterial(t.view, ref, &si).albedo * (255.0f / 60.0f),
+            vec3(0.5f * 2, 0.25f * 1, 1.0f), "textured");
   si.material = 1;
-  ExpectVec(ResolveMaterial(t.view, si).albedo, plain.albedo, "untextured");
+  ExpectVec(ResolveMaterial(t.view, ref, &si).albedo, plain.albedo, "untextured");
 }
 
 TEST(Srgb, DecodeIsTheExactEotf) {
