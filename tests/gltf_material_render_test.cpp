@@ -11,6 +11,7 @@
 #include "src/integrator/stages/generate.h"
 #include "src/materials/bsdf.h"
 #include "src/materials/texture.h"
+#include "src/scene/effects.h"
 #include "tests/gltf_material_scenes.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -253,6 +254,30 @@ TEST(GltfMaterialRender, DistantCheckerIsFilteredNotAliased) {
   for (int y = 1; y < 15; ++y)
     for (int x = 1; x < 15; ++x)
       EXPECT_NEAR(img.rgb[3 * (size_t(y) * spec.size + x)], 0.5029f, 0.01f) << x << " " << y;
+}
+
+// The effect analysis names each feature, and only the general shade variant runs them; a glTF
+// metal mapped to the plain conductor keeps its scene in the specialised variant.
+TEST(GltfMaterialRender, EffectsNameTheFeaturesAndChooseTheVariant) {
+  std::string dir = TempDir();
+  SceneSpec spec;
+  auto has = [](const Scene& s, const char* name) {
+    std::vector<std::string> n = EffectNames(AnalyzeEffects(s));
+    return std::find(n.begin(), n.end(), name) != n.end();
+  };
+  Scene normal = NormalMapScene(dir, 0, spec);
+  for (const char* e : {"gltf_pbr", "normal_maps", "textures", "backface_culling"}) EXPECT_TRUE(has(normal, e)) << e;
+  EXPECT_FALSE(has(normal, "alpha"));
+  EXPECT_EQ(ChooseFeatureClass(AnalyzeEffects(normal)), FeatureClass::kGeneral);
+  EXPECT_TRUE(has(EmissiveTextureScene(dir, false, spec), "emissive_textures"));
+  EXPECT_TRUE(has(AlphaShadowScene(dir, "mask", spec), "alpha"));
+  EXPECT_TRUE(has(AlphaShadowScene(dir, "blend", spec), "alpha"));
+  Scene cube = TransmissionScene(dir, true, vec3(1, 0.5f, 0.5f), 0.5f, spec);  // tinted
+  EXPECT_TRUE(has(cube, "transmission"));
+  EXPECT_TRUE(has(cube, "absorption"));
+  Scene mesh = BuildScene(LoadScene(SourcePath("scenes/mesh_scene.json")));  // a smooth gold glTF
+  EXPECT_FALSE(has(mesh, "gltf_pbr"));
+  EXPECT_NE(ChooseFeatureClass(AnalyzeEffects(mesh)), FeatureClass::kGeneral);
 }
 
 }  // namespace

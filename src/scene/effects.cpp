@@ -28,7 +28,8 @@ uint32_t AnalyzeEffects(const Scene& scene) {
       if (t >= 0) e |= kEffectTextures;
     if (m.normalTexture >= 0) e |= kEffectNormalMaps;
     if (m.emissiveTexture >= 0 && !IsBlack(m.radiance)) e |= kEffectEmissiveTextures;
-    if (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend | kMaterialCullBack)) e |= kEffectAlpha;
+    if (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) e |= kEffectAlpha;
+    if (m.flags & kMaterialCullBack) e |= kEffectBackfaceCulling;
     if (m.type == MaterialType::kGltfPbr && m.transmission > 0.0f) e |= kEffectTransmission;
   }
   for (const Light& l : scene.lights) {
@@ -47,7 +48,7 @@ std::vector<std::string> EffectNames(uint32_t effects) {
                                  "rough_lobes",  "textures",        "depth_of_field",
                                  "area_lights",  "point_lights",    "background_light",
                                  "gltf_pbr",     "normal_maps",     "alpha",
-                                 "transmission", "emissive_textures"};
+                                 "transmission", "emissive_textures", "backface_culling"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);
@@ -57,7 +58,7 @@ std::vector<std::string> EffectNames(uint32_t effects) {
 FeatureClass ChooseFeatureClass(uint32_t effects) {
   const uint32_t kDiffuseOnly = kEffectDiffuse | kEffectEmissive;
   // The glTF material, normal maps and emissive textures run only in the general variant;
-  // alpha is the intersector's (no variant), transmission implies the glTF material.
+  // alpha and culling are the intersector's (no variant), transmission implies glTF.
   const uint32_t kNeedsGeneral = kEffectPlastic | kEffectRoughLobes | kEffectTextures |
                                  kEffectGltfPbr | kEffectNormalMaps | kEffectEmissiveTextures |
                                  kEffectTransmission;

@@ -25,9 +25,10 @@ enum Effect : uint32_t {
   kEffectBackgroundLight = 1u << 11,
   kEffectGltfPbr = 1u << 12,            // the glTF metallic-roughness material
   kEffectNormalMaps = 1u << 13,
-  kEffectAlpha = 1u << 14,              // alpha MASK / BLEND or back-face culling (intersector)
+  kEffectAlpha = 1u << 14,              // alpha MASK / BLEND (the intersector's hit test)
   kEffectTransmission = 1u << 15,       // glTF transmission (thin walls or volumes)
   kEffectEmissiveTextures = 1u << 16,
+  kEffectBackfaceCulling = 1u << 17,    // single-sided glTF materials (the intersector's)
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.
