@@ -187,7 +187,7 @@ TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
                           "nonfinite_samples", "interrupted", "reference_relmse"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
-  for (const char* key : {"triangles", "primitives", "lights", "effects"}) {
+  for (const char* key : {"triangles", "primitives", "lights", "textures", "texture_bytes", "effects"}) {
     EXPECT_TRUE(j["scene"].contains(key)) << key;
   }
   for (const char* key : {"load", "bvh_build", "upload", "render", "stages"}) {
