@@ -74,11 +74,24 @@ inline Scene NormalMapScene(const std::string& dir, int variant, const SceneSpec
 // A square whose emissive texture is black on the left half and white on the right, factor 1
 // and KHR_materials_emissive_strength 3, base colour black; with `floor`, a diffuse floor in
 // front of it (and a camera that sees both) so that its light is measured by each integrator.
-inline Scene EmissiveTextureScene(const std::string& dir, bool floor, const SceneSpec& spec) {
+// alphaMode "MASK" cuts away its top half (base colour texture alpha 0 there); "BLEND" makes it
+// half transparent (base colour alpha 0.5).
+inline Scene EmissiveTextureScene(const std::string& dir, bool floor, const SceneSpec& spec,
+                                  const std::string& alphaMode = "") {
   const uint8_t black[4] = {0, 0, 0, 255}, white[4] = {255, 255, 255, 255};
-  GltfWriter w("emissive");
+  GltfWriter w("emissive" + alphaMode);
   int tex = w.AddTexture(HalfAndHalf(black, white), kClamp, kClamp);
-  w.AddMaterial(R"({"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+  std::string base = R"("baseColorFactor": [0, 0, 0, 1])", alpha;
+  if (alphaMode == "MASK") {
+    RgbaImage cut(1, 8);
+    for (int y = 0; y < 8; ++y) cut.Set(0, y, 255, 255, 255, y < 4 ? 0 : 255);
+    base += R"(, "baseColorTexture": {"index": )" + std::to_string(w.AddTexture(cut, kClamp, kClamp)) + "}";
+    alpha = R"("alphaMode": "MASK", )";
+  } else if (alphaMode == "BLEND") {
+    base = R"("baseColorFactor": [0, 0, 0, 0.5])";
+    alpha = R"("alphaMode": "BLEND", )";
+  }
+  w.AddMaterial("{" + alpha + R"("pbrMetallicRoughness": {)" + base + R"(, "metallicFactor": 0},
                     "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": )" +
                 std::to_string(tex) + R"(},
                     "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 3}}})");
