@@ -39,6 +39,11 @@ std::string TempDir() {
   return dir.string();
 }
 
+ScopedTempDir::~ScopedTempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path, ec);
+}
+
 int RunCommand(const std::string& command, std::string* output) {
   std::string full = command + " 2>&1";
   FILE* pipe = popen(full.c_str(), "r");

@@ -11,6 +11,16 @@ bool HaveShared();                                       // false in a user's cl
 std::string BinaryPath(const std::string& relative);   // inside the build folder
 std::string TempDir();                                   // a fresh folder for this test
 
+// A fresh folder that is removed, with everything in it, when this goes out of scope.
+struct ScopedTempDir {
+  std::string path = TempDir();
+  ScopedTempDir() = default;
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+  ~ScopedTempDir();
+  operator const std::string&() const { return path; }
+};
+
 // Runs a shell command; returns its exit status (the shell's, 128+n for signals).
 int RunCommand(const std::string& command, std::string* output = nullptr);
 
