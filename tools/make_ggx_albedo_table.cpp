@@ -68,7 +68,8 @@ std::string Literal(double v) {
 std::string Block(const std::vector<double>& values) {
   std::string out, line = "   ";
   for (size_t i = 0; i < values.size(); ++i) {
-    std::string item = " " + Literal(values[i]) + ",";
+    std::string item = " ";  // appended piecewise: " " + ... trips a GCC 12 -Wrestrict false alarm
+    item.append(Literal(values[i])).append(",");
     if (line.size() + item.size() > 96) {
       out += line + " \\\n";
       line = "   ";
