@@ -31,8 +31,11 @@ PT_HDI vec3 PerturbNormal(const SceneView& s, PrimRef ref, const SurfaceInteract
 // emission x texture; transmission x texture R; the normal texture moves si->ns.
 PT_HDI void ResolveGltfTextures(const SceneView& s, PrimRef ref, SurfaceInteraction* si,
                                 Material* m) {
-  TexCoords tc = TexCoordsAt(s, ref, si->uv, FootprintWidth(s.camera, si->p, si->ng));
   m->albedo *= vec3(VertexColorAt(s, ref, si->uv));
+  bool textured = m->baseColorTexture >= 0 || m->metallicRoughnessTexture >= 0 ||
+                  m->emissiveTexture >= 0 || m->transmissionTexture >= 0 || m->normalTexture >= 0;
+  if (!textured) return;  // no coordinates needed
+  TexCoords tc = TexCoordsAt(s, ref, si->uv, FootprintWidth(s.camera, si->p, si->ng));
   if (m->baseColorTexture >= 0) m->albedo *= vec3(SampleTextureRef(s, m->baseColorTexture, tc));
   if (m->metallicRoughnessTexture >= 0) {
     vec4 mr = SampleTextureRef(s, m->metallicRoughnessTexture, tc);
