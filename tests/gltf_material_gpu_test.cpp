@@ -41,7 +41,7 @@ void ExpectBackendsAgree(MakeScene make, SceneSpec spec, const char* what, doubl
 
 TEST(GltfMaterialGpu, FeatureScenesMatchTheCpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.size = 32;
   spec.spp = 64;

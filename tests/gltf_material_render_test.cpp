@@ -44,7 +44,7 @@ vec3 DecodedNormal(const uint8_t code[4], float scale) {
 }
 
 TEST(GltfMaterialRender, NormalMapTiltsTheLitSideByTheBsdfsFactor) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   for (int variant : {0, 1, 2}) {  // tangents from UVs, from TANGENT, normalTexture.scale 0.5
     Scene scene = NormalMapScene(dir, variant, spec);
@@ -70,7 +70,7 @@ TEST(GltfMaterialRender, NormalMapTiltsTheLitSideByTheBsdfsFactor) {
 }
 
 TEST(GltfMaterialRender, EmissiveTextureLightsOnlyItsTexels) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   Scene scene = EmissiveTextureScene(dir, false, spec);
   FilmImage img = RenderOnCpu(scene).image;
@@ -87,7 +87,7 @@ TEST(GltfMaterialRender, EmissiveTextureLightsOnlyItsTexels) {
 // irradiance, and MIS combines them into the same mean. Each window and pair is a z-test on the
 // difference of means with the films' variances (Bonferroni over all of them).
 TEST(GltfMaterialRender, EmissiveTextureLightIsTheSameForEveryIntegrator) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.size = 24;
   spec.spp = 256;
@@ -140,7 +140,7 @@ std::vector<size_t> FloorPixels(const Scene& scene, int size, float x0, float x1
 // Shadows under a point light are deterministic per sample (the same seed jitters the same
 // camera rays), so an unoccluded pixel equals the scene without the occluder exactly.
 TEST(GltfMaterialRender, AlphaCutoffAndCullingLetShadowRaysThrough) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   Scene noneScene = AlphaShadowScene(dir, "none", spec);
   FilmImage none = RenderOnCpu(noneScene).image;
@@ -165,7 +165,7 @@ TEST(GltfMaterialRender, AlphaCutoffAndCullingLetShadowRaysThrough) {
 }
 
 TEST(GltfMaterialRender, BlendAtHalfAlphaPassesHalfTheLight) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.spp = 64;
   Scene noneScene = AlphaShadowScene(dir, "none", spec);
@@ -198,7 +198,7 @@ TEST(GltfMaterialRender, BlendAtHalfAlphaPassesHalfTheLight) {
 // shows F + (1 - F) c too; with absorption T = exp(-sigma 2) per traversal the internal
 // reflections sum to F + (1 - F)^2 c T / (1 - F T).
 TEST(GltfMaterialRender, TransmissionKeepsItsTintAndAbsorbs) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.size = 16;
   spec.spp = 16;
@@ -229,7 +229,7 @@ TEST(GltfMaterialRender, TransmissionKeepsItsTintAndAbsorbs) {
 // Smooth coat over a diffuse base of COLOR_0 c in a white environment, seen head-on: the coat
 // reflects F = 0.04, the base (1 - F) c.
 TEST(GltfMaterialRender, VertexColourMultipliesTheBaseColour) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.size = 16;
   spec.spp = 64;
@@ -248,7 +248,7 @@ TEST(GltfMaterialRender, VertexColourMultipliesTheBaseColour) {
 // lookup would read black or white; the mip level its footprint picks holds their mean (linear
 // 0.5, stored as the sRGB code 188: 0.5029).
 TEST(GltfMaterialRender, DistantCheckerIsFilteredNotAliased) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   spec.size = 16;
   spec.spp = 1;
@@ -263,7 +263,7 @@ TEST(GltfMaterialRender, DistantCheckerIsFilteredNotAliased) {
 // The effect analysis names each feature, and only the general shade variant runs them; a glTF
 // metal mapped to the plain conductor keeps its scene in the specialised variant.
 TEST(GltfMaterialRender, EffectsNameTheFeaturesAndChooseTheVariant) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneSpec spec;
   auto has = [](const Scene& s, const char* name) {
     std::vector<std::string> n = EffectNames(AnalyzeEffects(s));

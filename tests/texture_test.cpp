@@ -186,7 +186,7 @@ TEST(TexturePyramid, TrilinearBlendsTheBracketingLevels) {
 // (offset, rotation, scale) and its texCoord overrides the slot's; a lookup through it equals
 // the lookup at the hand-transformed coordinates.
 TEST(TextureSample, TextureTransformEqualsTheHandTransformedLookup) {
-  test::ScopedTempDir dir;
+  std::string dir = test::TempDir();
   test::RgbaImage img(4, 4);
   for (int i = 0; i < 16; ++i) img.Set(i % 4, i / 4, uint8_t(i * 16), uint8_t(200 - i * 9), 77, 255);
   test::GltfWriter w("transformed");
