@@ -1,8 +1,9 @@
 // Directional albedo of a BSDF's reflection, E(wo) = integral of f(wo, wi) |cos wi| over wi.z
 // > 0, by deterministic quadrature of EvalBsdf (no sampling code involved): the white furnace
-// tests' reference. Host-only.
+// tests' reference; and the sampled albedo it is compared with. Host-only.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "src/materials/bsdf.h"
@@ -84,6 +85,31 @@ inline Albedo QuadratureAlbedo(const Material& m, vec3 wo, double alpha) {
   double fine = QuadratureAlbedo(m, wo, alpha, 1e-8);
   double coarse = QuadratureAlbedo(m, wo, alpha, 1e-7);
   return {fine, std::fabs(fine - coarse)};
+}
+
+// A viewing direction in the xz-plane with cos theta = mu.
+inline vec3 View(float mu) { return vec3(SafeSqrt(1.0f - mu * mu), 0.0f, mu); }
+
+// Mean path weight of SampleBsdf (0 where it fails: the energy lost), red channel, with the
+// 1 / eta^2 radiance scaling of refraction undone (eta is 1 through a thin wall); the largest
+// single weight goes to *maxWeight when given.
+inline MeanEstimate SampledAlbedo(const Material& m, vec3 wo, uint32_t seed, int n,
+                                  float* maxWeight = nullptr) {
+  Uniform u(seed);
+  MeanAccumulator acc;
+  float largest = 0.0f;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample s;
+    float w = 0.0f;
+    if (SampleBsdf(m, wo, u(), u.Get2(), &s)) {
+      w = s.f.x * AbsCosTheta(s.wi) / s.pdf;
+      if (s.isTransmission) w *= s.eta * s.eta;
+    }
+    largest = std::max(largest, w);
+    acc.Add(w);
+  }
+  if (maxWeight) *maxWeight = largest;
+  return acc.Result();
 }
 
 }  // namespace pt::test

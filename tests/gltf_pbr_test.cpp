@@ -33,6 +33,8 @@ namespace pt {
 namespace {
 
 using test::kZ1e4;
+using test::SampledAlbedo;
+using test::View;
 using test::Uniform;
 
 Material Pbr(vec3 base, float metallic, float roughness, float ior = 1.5f,
@@ -47,8 +49,6 @@ Material Pbr(vec3 base, float metallic, float roughness, float ior = 1.5f,
   m.flags = thin ? kMaterialThinWalled : 0u;
   return m;
 }
-
-vec3 View(float mu) { return vec3(SafeSqrt(1.0f - mu * mu), 0.0f, mu); }
 
 std::string Describe(const Material& m, vec3 wo) {
   std::ostringstream s;
@@ -141,23 +141,6 @@ TEST(GltfPbrTest, CoatAlbedoAverageIsTheInterpolantsIntegral) {
 }
 
 // ---- White furnace ----
-
-// Mean path weight of SampleBsdf for a white material (0 where it fails), red channel; the
-// 1 / eta^2 radiance scaling of refraction undone.
-test::MeanEstimate SampledAlbedo(const Material& m, vec3 wo, uint32_t seed, int n) {
-  Uniform u(seed);
-  test::MeanAccumulator acc;
-  for (int i = 0; i < n; ++i) {
-    BsdfSample s;
-    float w = 0.0f;
-    if (SampleBsdf(m, wo, u(), u.Get2(), &s)) {
-      w = s.f.x * AbsCosTheta(s.wi) / s.pdf;
-      if (s.isTransmission && !s.passesThrough) w *= s.eta * s.eta;
-    }
-    acc.Add(w);
-  }
-  return acc.Result();
-}
 
 TEST(GltfPbrTest, OpaqueWhiteFurnaceNeverCreatesEnergy) {
   uint32_t seed = 10;

@@ -36,7 +36,8 @@ using test::kZ1e4;
 
 using test::Albedo;
 using test::QuadratureAlbedo;
-using test::Uniform;
+using test::SampledAlbedo;
+using test::View;
 
 Material Make(MaterialType type, vec3 albedo, float ior, float roughness) {
   Material m;
@@ -45,28 +46,6 @@ Material Make(MaterialType type, vec3 albedo, float ior, float roughness) {
   m.ior = ior;
   m.roughness = roughness;
   return m;
-}
-
-vec3 View(float mu) { return vec3(SafeSqrt(1.0f - mu * mu), 0.0f, mu); }
-
-// Mean path weight of SampleBsdf (0 where it fails: the energy lost), red channel; the
-// largest single weight (transmitted ones times etap^2) goes to *maxWeight.
-test::MeanEstimate SampledAlbedo(const Material& m, vec3 wo, uint32_t seed, int n,
-                                 float* maxWeight) {
-  Uniform u(seed);
-  test::MeanAccumulator acc;
-  *maxWeight = 0.0f;
-  for (int i = 0; i < n; ++i) {
-    BsdfSample s;
-    float w = 0.0f;
-    if (SampleBsdf(m, wo, u(), u.Get2(), &s)) {
-      w = s.f.x * AbsCosTheta(s.wi) / s.pdf;
-      if (s.isTransmission) w *= s.eta * s.eta;  // undo the radiance scaling
-    }
-    *maxWeight = std::max(*maxWeight, w);
-    acc.Add(w);
-  }
-  return acc.Result();
 }
 
 TEST(WhiteFurnaceTest, ConductorLosesOnlyWhatSingleScatteringGgxLoses) {
