@@ -50,9 +50,11 @@ def main():
             rates = [s["msamples_per_s"] for s in stats]
             ms = statistics.median(s["time_ms"]["render"] for s in stats)
             s0 = stats[0]
+            peak = s0["peak_device_bytes"]  # null on the CPU backend
+            peak_mb = "-" if peak is None else f"{peak / 1e6:.0f}"
             lines.append(f"| {name} | {mode} | {statistics.median(rates):.2f} ({min(rates):.2f}-"
                          f"{max(rates):.2f}) | {ms:.0f} | {s0['scene']['texture_bytes'] / 1e6:.1f} | "
-                         f"{s0['peak_device_bytes'] / 1e6:.0f} | {' '.join(s0['scene']['effects'])} |")
+                         f"{peak_mb} | {' '.join(s0['scene']['effects'])} |")
             print(lines[-1], flush=True)
     with open(os.path.join(args.out, "gltf_materials.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
