@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench special}"  # also: env (environment lighting)
+STEPS="${STEPS:-info tests sanitize bench special gltf}"  # also: env (environment lighting)
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -72,4 +72,10 @@ if [[ " $STEPS " == *" env "* ]]; then
   python3 benchmarks/accuracy_env.py --binary "$BIN/pathtracer" --backend cuda --size 640x480 \
     --spps 16,64,256,1024 --ref-spp 32768 --label "$(nvidia-smi --query-gpu=name \
     --format=csv,noheader | head -1)" --out "$OUT/accuracy_env"
+fi
+
+if [[ " $STEPS " == *" gltf "* ]]; then
+  step "glTF materials: DamagedHelmet and TransmissionTest at 1080p, full material against legacy"
+  python3 benchmarks/gltf_materials_bench.py --binary "$BIN/pathtracer" --backend cuda \
+    --repeats "${REPEATS:-3}" --out "$OUT/gltf_materials"
 fi

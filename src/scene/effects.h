@@ -25,6 +25,12 @@ enum Effect : uint32_t {
   kEffectBackgroundLight = 1u << 11,
   kEffectDirectionalLights = 1u << 12,  // distant lights: delta, or a cone (a sun disk)
   kEffectEnvironmentMap = 1u << 13,     // an image (or baked sky) environment: map code runs
+  kEffectGltfPbr = 1u << 14,            // the glTF metallic-roughness material
+  kEffectNormalMaps = 1u << 15,
+  kEffectAlpha = 1u << 16,              // alpha MASK / BLEND (the intersector's hit test)
+  kEffectTransmission = 1u << 17,       // glTF transmission (thin walls or volumes)
+  kEffectEmissiveTextures = 1u << 18,
+  kEffectBackfaceCulling = 1u << 19,    // single-sided glTF materials (the intersector's)
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.
@@ -37,7 +43,7 @@ std::vector<std::string> EffectNames(uint32_t effects);
 enum class FeatureClass : uint32_t {
   kDiffuse = 0,  // Lambertian and emitters only: no Fresnel, microfacets, media or textures
   kSmooth = 1,   // adds smooth mirrors and glass (Fresnel, refraction, absorption)
-  kGeneral = 2,  // everything: rough lobes, plastic, textures
+  kGeneral = 2,  // everything: rough lobes, plastic, glTF materials, textures, normal maps
 };
 
 FeatureClass ChooseFeatureClass(uint32_t effects);
