@@ -1,5 +1,6 @@
 #include "src/app/cli.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -138,6 +139,11 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--camera",
+       [](CliOptions& o, ValueSource& s) {
+         o.camera = s.Take();
+         if (o.camera.empty()) throw CliError("empty camera for --camera (an index or a name)");
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {
@@ -317,15 +323,18 @@ CliOptions ParseCli(int argc, const char* const* argv) {
 }
 
 std::string CliUsage() {
-  return R"(usage: pathtracer SCENE.json -o OUT [options]
+  return R"(usage: pathtracer SCENE -o OUT [options]
 
-Renders SCENE.json (see scene-format.md) to OUT (.png sRGB; .exr or .pfm linear).
+Renders SCENE to OUT (.png sRGB; .exr or .pfm linear). SCENE is a JSON scene, or a .gltf,
+.glb or .obj file rendered as a whole scene (docs/scene-format.md; options: docs/cli.md).
 Options take `--flag V` or `--flag=V`; they override the scene's values.
 
   -o FILE                  the image (required)
   --hdr FILE               also a linear .exr (with variance and sample channels) or .pfm
   --spp N                  samples per pixel
-  --width W, --height H    image size in pixels
+  --width W, --height H    image size in pixels (one alone keeps a glTF scene's aspect ratio)
+  --camera N|NAME          the glTF camera to render through, by index or name (default: the
+                           file's first perspective camera, else an automatic one)
   --max-depth D            most bounces a path may take
   --seed S                 random seed (0..4294967295)
   --rr-depth N|off         Russian roulette from bounce N, or never
@@ -358,6 +367,12 @@ void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {
   if (cli.spp) settings->spp = *cli.spp;
   if (cli.width) settings->width = *cli.width;
   if (cli.height) settings->height = *cli.height;
+  if (settings->aspect > 0.0f && cli.width.has_value() != cli.height.has_value()) {
+    double side = cli.width ? double(*cli.width) / settings->aspect
+                            : double(*cli.height) * settings->aspect;  // the other side
+    int other = int(std::clamp(std::lround(side), 1L, long(kMaxImageSide)));
+    (cli.width ? settings->height : settings->width) = other;
+  }
   if (cli.maxDepth) settings->maxDepth = *cli.maxDepth;
   if (cli.seed) settings->seed = *cli.seed;
   if (cli.rrDepth) settings->russianRouletteDepth = *cli.rrDepth;

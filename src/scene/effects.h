@@ -25,6 +25,7 @@ enum Effect : uint32_t {
   kEffectBackgroundLight = 1u << 11,
   kEffectDirectionalLights = 1u << 12,  // distant lights: delta, or a cone (a sun disk)
   kEffectEnvironmentMap = 1u << 13,     // an image (or baked sky) environment: map code runs
+  kEffectSpotLights = 1u << 14,
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.
