@@ -60,16 +60,20 @@ int ParseInt(ValueSource& src, int lo, int hi) {
   return int(ParseInteger(src.Option(), src.Take(), lo, hi));
 }
 
-double ParsePositiveSeconds(ValueSource& src) {
+// A finite number > 0 that fits a float; `what` names it in messages.
+double ParsePositiveNumber(ValueSource& src, const char* what) {
   std::string text = src.Take();
   char* end = nullptr;
   double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value)) {
-    throw CliError("bad number for " + src.Option() + ": '" + text + "'");
+  if (text.empty() || *end != '\0' || !std::isfinite(value) || value > 1e30) {
+    throw CliError("bad number for " + src.Option() + ": '" + text + "' (expected " + what +
+                   ")");
   }
   if (value <= 0.0) throw CliError(src.Option() + " must be greater than 0, not " + text);
   return value;
 }
+
+double ParsePositiveSeconds(ValueSource& src) { return ParsePositiveNumber(src, "seconds"); }
 
 template <typename T>
 T ParseChoice(ValueSource& src, std::initializer_list<std::pair<const char*, T>> choices) {
@@ -155,6 +159,17 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          }
          o.envStrength = float(v);
        }},
+      {"--max-paths",
+       [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
+      {"--clamp",
+       [](CliOptions& o, ValueSource& s) {
+         o.clampLuminance = float(ParsePositiveNumber(s, "a luminance"));
+       }},
+      {"--progress-every",
+       [](CliOptions& o, ValueSource& s) { o.progressEverySeconds = ParsePositiveSeconds(s); }},
+      {"--checkpoint-every",
+       [](CliOptions& o, ValueSource& s) { o.checkpointEverySeconds = ParsePositiveSeconds(s); }},
+      {"--resume", [](CliOptions& o, ValueSource& s) { o.resumePath = TakePath(s); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
@@ -297,6 +312,13 @@ void CheckRequired(const CliOptions& options) {
   if (!options.referencePath.empty()) {
     CheckExtension("--reference", options.referencePath, false);
   }
+  if (!options.resumePath.empty() && !IsExrPath(options.resumePath)) {
+    throw CliError("--resume " + options.resumePath +
+                   ": a render resumes from the .exr its --hdr wrote");
+  }
+  if (options.checkpointEverySeconds > 0.0 && !IsExrPath(options.hdrPath)) {
+    throw CliError("--checkpoint-every needs --hdr FILE.exr: the checkpoint is that EXR");
+  }
 }
 
 }  // namespace
@@ -304,6 +326,7 @@ void CheckRequired(const CliOptions& options) {
 CliOptions ParseCli(int argc, const char* const* argv) {
   std::vector<std::string> args(argv + std::min(argc, 1), argv + argc);
   CliOptions options;
+  options.arguments.assign(argv, argv + std::max(argc, 0));
   bool optionsEnded = false;
   for (size_t next = 0; next < args.size();) {
     const std::string& token = args[next++];
@@ -320,47 +343,6 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   }
   if (!options.help && !options.version) CheckRequired(options);
   return options;
-}
-
-std::string CliUsage() {
-  return R"(usage: pathtracer SCENE -o OUT [options]
-
-Renders SCENE to OUT (.png sRGB; .exr or .pfm linear). SCENE is a JSON scene, or a .gltf,
-.glb or .obj file rendered as a whole scene (docs/scene-format.md; options: docs/cli.md).
-Options take `--flag V` or `--flag=V`; they override the scene's values.
-
-  -o FILE                  the image (required)
-  --hdr FILE               also a linear .exr (with variance and sample channels) or .pfm
-  --spp N                  samples per pixel
-  --width W, --height H    image size in pixels (one alone keeps a glTF scene's aspect ratio)
-  --camera N|NAME          the glTF camera to render through, by index or name (default: the
-                           file's first perspective camera, else an automatic one)
-  --max-depth D            most bounces a path may take
-  --seed S                 random seed (0..4294967295)
-  --rr-depth N|off         Russian roulette from bounce N, or never
-  --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)
-  --threads N              CPU threads, 0 = all cores (default 0)
-  --compact on|off|auto    stream compaction of finished paths (default auto)
-  --sort off|material|auto order live paths by material before shading (default auto)
-  --integrator mis|bsdf|nee  light transport estimator (default mis)
-  --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
-                           the scene's environment or background
-  --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
-  --env-sampling importance|uniform  how next-event estimation samples the map (default
-                           importance: by luminance x solid angle)
-  --reference FILE         log relMSE against this .exr/.pfm image into the stats
-  --time-limit SECONDS     stop after this much render time, write what has accumulated
-  --preview-every SECONDS  rewrite the outputs as samples accumulate
-  --crop X0 Y0 X1 Y1       render only this pixel window [X0,X1) x [Y0,Y1)
-  --stats-json FILE        write render statistics as JSON
-  --quiet                  no progress bar (shown only when stderr is a terminal anyway)
-  --help, --version
-
-Not built yet (refused): --sort queues.
-
-Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
-3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).
-)";
 }
 
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {
