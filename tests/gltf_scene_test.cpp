@@ -229,16 +229,26 @@ TEST(GltfScene, DefaultEnvironmentOnlyForAFileWithoutAnyLight) {
     }
     return w.Write(dir, name);
   };
-  const std::string phrase = "has no light (no KHR_lights_punctual light, no emissive material): "
-                             "lit by the default environment, a uniform radiance of 1";
-  SceneDesc unlit = LoadScene(write("unlit", 0));
-  EXPECT_EQ(CountContaining(unlit.warnings, phrase), 1);
+  const std::string phrase = "no light (no KHR_lights_punctual light, no emissive material), lit "
+                             "by the default environment: a uniform radiance of 1 from every "
+                             "direction";
+  std::string unlitPath = write("unlit", 0);
+  SceneDesc unlit = LoadScene(unlitPath);
+  // With the automatic camera's note, one line for the file.
+  ASSERT_EQ(unlit.warnings.size(), 1u);
+  EXPECT_EQ(unlit.warnings[0], unlitPath + ": no camera, framed automatically; " + phrase);
   EXPECT_EQ(unlit.background, vec3(1.0f));
   for (int kind : {1, 2}) {
     SceneDesc lit = LoadScene(write("lit" + std::to_string(kind), kind));
-    EXPECT_EQ(CountContaining(lit.warnings, "has no light"), 0) << kind;
+    EXPECT_EQ(CountContaining(lit.warnings, "no light"), 0) << kind;
     EXPECT_EQ(lit.background, vec3(0.0f)) << kind;
   }
+  // An environment from the command line (--env) lights it instead: no default, no note.
+  LoadOptions withEnv;
+  withEnv.environmentGiven = true;
+  SceneDesc given = LoadScene(unlitPath, withEnv);
+  EXPECT_EQ(CountContaining(given.warnings, "no light"), 0);
+  EXPECT_EQ(given.background, vec3(0.0f));
 }
 
 // What the renderer ignores of a file is one line, however many objects it concerns.

@@ -37,6 +37,7 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   try {
     LoadOptions load;
     load.camera = cli.camera;
+    load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
     if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;

@@ -81,15 +81,15 @@ GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink) {
 }
 
 std::string GltfSceneSummary(const std::string& label, const GltfSceneContents& contents,
-                             const std::string& note) {
+                             const std::vector<std::string>& notes) {
+  std::string line;
+  for (const std::string& note : notes) line += (line.empty() ? "" : "; ") + note;
   std::string ignored;
   for (const std::string& phrase : contents.ignored) {
     ignored += (ignored.empty() ? "" : ", ") + phrase;
   }
-  if (note.empty() && ignored.empty()) return "";
-  std::string line = label + ": " + note;
-  if (!ignored.empty()) line += (note.empty() ? "" : "; ") + std::string("ignored: ") + ignored;
-  return line;
+  if (!ignored.empty()) line += (line.empty() ? "" : "; ") + std::string("ignored: ") + ignored;
+  return line.empty() ? "" : label + ": " + line;
 }
 
 SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
@@ -112,26 +112,25 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
   } catch (const std::runtime_error& e) {
     throw SceneError(path, "--camera", e.what());
   }
-  std::string note;
+  std::vector<std::string> notes;
   scene.render = ModelRenderSettings(camera ? camera->aspectRatio : 0.0f);
   if (camera) {
     scene.camera = camera->desc;
   } else {
     scene.camera.autoFrame = true;
     scene.camera.fovY = kAutoCameraFovY;
-    note = contents.cameras.empty() ? "no camera, framed automatically"
-                                    : "no perspective camera, framed automatically";
+    notes.push_back(contents.cameras.empty() ? "no camera, framed automatically"
+                                             : "no perspective camera, framed automatically");
   }
   AddGltfLights(contents, scene);
-  std::string summary = GltfSceneSummary(path, contents, note);
-  if (!summary.empty()) scene.warnings.push_back(summary);
-  if (contents.LightCount() == 0 && !AnyEmitter(scene)) {
+  if (contents.LightCount() == 0 && !AnyEmitter(scene) && !options.environmentGiven) {
     scene.background = vec3(kDefaultEnvironmentRadiance);
-    scene.warnings.push_back(
-        path + " has no light (no KHR_lights_punctual light, no emissive material): lit by the "
-        "default environment, a uniform radiance of " + FormatNumber(kDefaultEnvironmentRadiance) +
-        " from every direction");
+    notes.push_back("no light (no KHR_lights_punctual light, no emissive material), lit by the "
+                    "default environment: a uniform radiance of " +
+                    FormatNumber(kDefaultEnvironmentRadiance) + " from every direction");
   }
+  std::string summary = GltfSceneSummary(path, contents, notes);
+  if (!summary.empty()) scene.warnings.push_back(summary);
   if (scene.skippedDegenerateTriangles > 0) {
     scene.warnings.push_back("skipped " + std::to_string(scene.skippedDegenerateTriangles) +
                              " degenerate triangles (zero area or non-finite vertices) in " + path);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "src/io/gltf_scene.h"
 #include "src/io/mesh_common.h"
@@ -35,14 +36,15 @@ GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink);
 // Appends the file's point, spot and directional lights to the scene's.
 void AddGltfLights(const GltfSceneContents& contents, SceneDesc& scene);
 
-// The one summary line of a glTF file's scene parts ("FILE: ignored: 2 animations ..."),
-// empty when there is nothing to say. `note` leads it when not empty.
+// The one summary line of a glTF file's scene parts ("FILE: NOTE; NOTE; ignored: 2 animations
+// ..."), empty when there is nothing to say.
 std::string GltfSceneSummary(const std::string& label, const GltfSceneContents& contents,
-                             const std::string& note = "");
+                             const std::vector<std::string>& notes = {});
 
 // A model file as the whole scene: its default scene's triangles, materials and lights, the
 // camera options.camera selects (the first perspective camera by default, the automatic
-// camera without one) and the render defaults above. Errors name the file and the part.
+// camera without one) and the render defaults above; unlit (and options.environmentGiven
+// false), the default environment. Errors name the file and the part.
 SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options);
 
 // A JSON scene's camera taken from a model file: {"from_file": F, "name": N | "index": I,

@@ -23,6 +23,9 @@ struct LoadOptions {
   // --camera: a camera of a glTF scene by index or name (or of the file a JSON scene's
   // camera is taken from); empty = the scene's own choice.
   std::string camera;
+  // The command line brings the environment (--env): a model scene without lights then gets
+  // no default environment.
+  bool environmentGiven = false;
 };
 
 // Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or
