@@ -57,8 +57,7 @@ class GltfMaterialTable {
 
  private:
   int32_t BaseColorTexture(int texture, std::vector<std::string>& notes);
-  int32_t ImageTexels(int image, TextureWrap wrapS, TextureWrap wrapT,
-                      std::vector<std::string>& notes);
+  int32_t ImageTexels(int image, TextureWrap wrapS, TextureWrap wrapT);
 
   const tinygltf::Model& model_;
   const GltfEncodedImages& images_;

@@ -250,7 +250,13 @@ uint32_t GltfMaterialTable::Index(int index) {
   bool usesAlbedo = m.type == MaterialType::kDiffuse || m.type == MaterialType::kConductor ||
                     m.type == MaterialType::kPlastic;
   int texture = source.pbrMetallicRoughness.baseColorTexture.index;
-  if (usesAlbedo && texture >= 0) m.baseColorTexture = BaseColorTexture(texture, mapped.approximations);
+  try {
+    if (usesAlbedo && texture >= 0) {
+      m.baseColorTexture = BaseColorTexture(texture, mapped.approximations);
+    }
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(name + ": " + e.what());
+  }
   textured_[index < 0 ? textured_.size() - 1 : size_t(index)] = m.baseColorTexture >= 0;
   if (!mapped.approximations.empty()) {
     std::string notes;
@@ -302,11 +308,7 @@ int32_t GltfMaterialTable::BaseColorTexture(int texture, std::vector<std::string
     throw std::runtime_error("image " + std::to_string(t.source) + " does not exist");
   }
   int64_t& texels = imageTextures_[t.source];
-  if (texels == -1) texels = ImageTexels(t.source, wrapS, wrapT, notes);  // first use: decode
-  if (texels < 0) {
-    notes.push_back(which + " ignored, factor used");
-    return -1;
-  }
+  if (texels == -1) texels = ImageTexels(t.source, wrapS, wrapT);  // first use: decode
   slot = texels;
   const pt::Texture& stored = sink_.TextureAt(int32_t(texels));
   if (stored.wrapS != wrapS || stored.wrapT != wrapT) {
@@ -315,9 +317,9 @@ int32_t GltfMaterialTable::BaseColorTexture(int texture, std::vector<std::string
   return int32_t(slot);
 }
 
-// Decodes image `image` and stores it as a scene texture; -2 with a note when it cannot be read.
-int32_t GltfMaterialTable::ImageTexels(int image, TextureWrap wrapS, TextureWrap wrapT,
-                                       std::vector<std::string>& notes) {
+// Decodes image `image` and stores it as a scene texture. An image that is missing or that stb
+// cannot decode is bad input (the picture would silently lose it): an error naming the image.
+int32_t GltfMaterialTable::ImageTexels(int image, TextureWrap wrapS, TextureWrap wrapT) {
   const tinygltf::Image& source = model_.images[image];
   std::string which = "image #" + std::to_string(image) +
                       (source.name.empty() ? "" : " \"" + source.name + "\"");
@@ -330,8 +332,7 @@ int32_t GltfMaterialTable::ImageTexels(int image, TextureWrap wrapS, TextureWrap
     bytes = images_[image].data();
     size = images_[image].size();
   } else {
-    notes.push_back(which + " (\"" + source.uri + "\") could not be read");
-    return -2;
+    throw std::runtime_error(which + " (\"" + source.uri + "\") cannot be read");
   }
   tinygltf::Image decoded;
   decoded.name = source.name;
@@ -339,8 +340,8 @@ int32_t GltfMaterialTable::ImageTexels(int image, TextureWrap wrapS, TextureWrap
   if (size > size_t(INT_MAX) ||
       !tinygltf::LoadImageData(&decoded, image, &err, &warn, 0, 0, bytes, int(size), nullptr)) {
     std::string type = source.mimeType.empty() ? std::string() : " (" + source.mimeType + ")";
-    notes.push_back(which + type + " cannot be decoded");
-    return -2;
+    throw std::runtime_error(which + type + " cannot be decoded" +
+                             (err.empty() ? std::string() : " (" + OneLine(err) + ")"));
   }
   return sink_.AddTexture(uint32_t(decoded.width), uint32_t(decoded.height), wrapS, wrapT,
                           LinearTexels(decoded));
