@@ -7,12 +7,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "src/io/scene_loader.h"
 #include "src/scene/scene.h"
+#include "tests/cli_test_util.h"
 #include "tests/gltf_scene_writer.h"
 #include "tests/test_util.h"
 
@@ -103,44 +102,22 @@ TEST(GltfSceneErrors, UnknownCameraNamesTheOptionAndListsTheCameras) {
   EXPECT_NE(m.find("0 \"Main\""), std::string::npos) << m;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The CLI: exit 2 with a message naming the file, the existing image untouched, nothing else
 // written, for every broken file, an unknown camera and a missing model file.
 TEST(GltfSceneErrors, CliExitsTwoNamingTheFileAndWritesNothing) {
   std::string dir = test::TempDir();
   std::string good = WriteGoodScene(dir);
-  std::vector<std::pair<std::string, std::string>> runs;  // scene, extra options
-  for (const auto& entry : GltfCorpus()) runs.push_back({Dir("gltf") + "/" + entry.first, ""});
-  for (const std::string& name : FilesIn(Dir("meshes"), false))
-    runs.push_back({Dir("meshes") + "/" + name, ""});
-  runs.push_back({good, "--camera Back"});
-  runs.push_back({dir + "/absent.glb", ""});
-  std::string kept = dir + "/kept.png";
-  for (const auto& [scene, extra] : runs) {
-    std::ofstream(kept, std::ios::binary) << "old image";
-    std::string output;
-    int status = test::RunCommand(test::BinaryPath("pathtracer") + " '" + scene + "' " + extra +
-                                      " -o " + kept + " --hdr " + dir + "/new.exr --stats-json " +
-                                      dir + "/stats.json --width 8 --height 8 --spp 1 --quiet",
-                                  &output);
-    std::string name = fs::path(scene).filename().string();
-    EXPECT_EQ(status, 2) << name << ": " << output;
-    EXPECT_NE(output.find(scene), std::string::npos) << name << ": names no file: " << output;
-    EXPECT_TRUE(ReadText(kept) == "old image") << name << " overwrote the output";
-    EXPECT_FALSE(fs::exists(dir + "/new.exr")) << name;
-    EXPECT_FALSE(fs::exists(dir + "/stats.json")) << name;
-    fs::remove(dir + "/new.exr");
-    fs::remove(dir + "/stats.json");
+  for (const auto& entry : GltfCorpus()) {
+    test::ExpectRefusedWritingNothing(Dir("gltf") + "/" + entry.first, "", dir);
   }
-  // The same good file renders (the refusal above is the camera's).
-  EXPECT_EQ(test::RunCommand(test::BinaryPath("pathtracer") + " '" + good + "' -o " + kept +
-                                 " --width 8 --height 8 --spp 1 --quiet"),
+  for (const std::string& name : FilesIn(Dir("meshes"), false)) {
+    test::ExpectRefusedWritingNothing(Dir("meshes") + "/" + name, "", dir);
+  }
+  test::ExpectRefusedWritingNothing(good, "--camera Back", dir);
+  test::ExpectRefusedWritingNothing(dir + "/absent.glb", "", dir);
+  // The same file renders: the refusal above is the camera's.
+  EXPECT_EQ(test::RunPathtracer("'" + good + "' -o " + dir + "/good.png --width 8 --height 8 "
+                                "--spp 1 --quiet"),
             0);
 }
 
