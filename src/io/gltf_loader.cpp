@@ -231,11 +231,7 @@ class GltfWalker {
       : model_(model), sink_(sink), materials_(model, images, sink) {}
 
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
-    if (index < 0 || size_t(index) >= model_.nodes.size()) {
-      Malformed("node " + std::to_string(index) + " does not exist");
-    }
-    if (depth > kMaxGltfNodeDepth) Malformed("the node hierarchy is cyclic or too deep");
-    const tinygltf::Node& node = model_.nodes[index];
+    const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
     glm::dmat4 world = parent * GltfLocalMatrix(node);
     if (node.mesh >= 0) EmitMesh(node.mesh, world);
     for (int child : node.children) VisitNode(child, world, depth + 1);

@@ -2,6 +2,9 @@
 
 #include <tiny_gltf.h>
 
+#include <stdexcept>
+#include <string>
+
 namespace pt {
 
 glm::dmat4 GltfLocalMatrix(const tinygltf::Node& node) {
@@ -47,6 +50,16 @@ std::vector<int> GltfRootNodes(const tinygltf::Model& model) {
     if (!isChild[i]) roots.push_back(int(i));
   }
   return roots;
+}
+
+const tinygltf::Node& GltfNodeAt(const tinygltf::Model& model, int index, int depth) {
+  if (index < 0 || size_t(index) >= model.nodes.size()) {
+    throw std::runtime_error("node " + std::to_string(index) + " does not exist");
+  }
+  if (depth > kMaxGltfNodeDepth) {
+    throw std::runtime_error("the node hierarchy is cyclic or too deep");
+  }
+  return model.nodes[index];
 }
 
 }  // namespace pt

@@ -19,6 +19,10 @@ constexpr int kMaxGltfNodeDepth = 256;  // deeper is a cycle (glTF forbids them)
 // here) and scale, in double precision.
 glm::dmat4 GltfLocalMatrix(const tinygltf::Node& node);
 
+// Node `index` of a walk at `depth`; throws std::runtime_error when it does not exist or the
+// walk is deeper than kMaxGltfNodeDepth.
+const tinygltf::Node& GltfNodeAt(const tinygltf::Model& model, int index, int depth);
+
 // The root nodes of the default scene (scene 0 when none is named); without scenes, every
 // node that is nobody's child.
 std::vector<int> GltfRootNodes(const tinygltf::Model& model);

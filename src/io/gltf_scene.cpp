@@ -58,11 +58,7 @@ class SceneReader {
       : model_(model), out_(out), placed_(model.cameras.size(), false) {}
 
   void Visit(int index, const glm::dmat4& parent, int depth) {
-    if (index < 0 || size_t(index) >= model_.nodes.size()) {
-      Fail("node " + std::to_string(index) + " does not exist");
-    }
-    if (depth > kMaxGltfNodeDepth) Fail("the node hierarchy is cyclic or too deep");
-    const tinygltf::Node& node = model_.nodes[index];
+    const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
     glm::dmat4 world = parent * GltfLocalMatrix(node);
     if (node.camera >= 0) PlaceCamera(node, world);
     auto ext = node.extensions.find("KHR_lights_punctual");
