@@ -29,7 +29,7 @@ const std::map<std::string, std::string>& GltfCorpus() {
        "meshes[0].primitives[0]: index accessor 1 is not of an unsigned integer type"},
       {"position_unknown_component_type.gltf", "Invalid `componentType` in accessor"},
       {"index_out_of_range.gltf", "meshes[0].primitives[0]: index 1065353216 out of range"},
-      {"node_mesh_out_of_range.gltf", "mesh 3 does not exist"},
+      {"node_mesh_out_of_range.gltf", "nodes[0].mesh: mesh 3 does not exist"},
       {"scene_node_out_of_range.gltf", "node 5 does not exist"},
       {"truncated_json.gltf", "cannot load glTF: [json.exception.parse_error"},
       {"missing_bin.gltf", "File not found : missing.bin"},

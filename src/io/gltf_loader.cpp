@@ -233,15 +233,18 @@ class GltfWalker {
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
     const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
     glm::dmat4 world = parent * GltfLocalMatrix(node);
-    if (node.mesh >= 0) EmitMesh(node.mesh, world);
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model_.meshes.size()) {
+        Malformed("nodes[" + std::to_string(index) + "].mesh: mesh " + std::to_string(node.mesh) +
+                  " does not exist");
+      }
+      EmitMesh(node.mesh, world);
+    }
     for (int child : node.children) VisitNode(child, world, depth + 1);
   }
 
  private:
   void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
-    if (size_t(meshIndex) >= model_.meshes.size()) {
-      Malformed("mesh " + std::to_string(meshIndex) + " does not exist");
-    }
     sink_.SetTransform(toWorld);
     const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
     for (size_t i = 0; i < mesh.primitives.size(); ++i) {

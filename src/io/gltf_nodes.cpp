@@ -54,7 +54,8 @@ std::vector<int> GltfRootNodes(const tinygltf::Model& model) {
 
 const tinygltf::Node& GltfNodeAt(const tinygltf::Model& model, int index, int depth) {
   if (index < 0 || size_t(index) >= model.nodes.size()) {
-    throw std::runtime_error("node " + std::to_string(index) + " does not exist");
+    throw std::runtime_error("node " + std::to_string(index) +
+                             " does not exist (a scene's nodes or a node's children name it)");
   }
   if (depth > kMaxGltfNodeDepth) {
     throw std::runtime_error("the node hierarchy is cyclic or too deep");
