@@ -7,7 +7,8 @@
 // Inputs that start with the GLB magic "glTF" are fuzzed as a binary glTF mesh instead: they
 // are written to a scratch file and loaded through a fixed scene that refers to it, so the
 // glTF path (tinygltf's container and JSON parsing, our accessor and node walking) is reached
-// from the GLB seeds too.
+// from the GLB seeds too; the same file is then loaded as the whole scene (its cameras,
+// KHR_lights_punctual lights, the automatic camera and the default environment).
 //
 // Environment: PT_FUZZ_BASE_DIR is the folder relative mesh paths resolve against (default
 // "."); tools/run_fuzz.sh points it at a folder whose meshes/ holds the seeds' meshes.
@@ -45,10 +46,11 @@ const std::string& ScratchGlb() {
   return path;
 }
 
+// A scene text, or (text empty) the model file `name` as the whole scene.
 void LoadAndBuild(const std::string& text, const std::string& name) {
   pt::SceneDesc desc;
   try {
-    desc = pt::LoadSceneFromString(text, name, BaseDir());
+    desc = text.empty() ? pt::LoadScene(name) : pt::LoadSceneFromString(text, name, BaseDir());
   } catch (const pt::SceneError&) {
     return;  // the one allowed refusal
   }
@@ -74,6 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov_y": 40},
       "materials": {}, "objects": [{"type": "mesh", "file": ")" + ScratchGlb() + R"("}]})";
     LoadAndBuild(scene, "fuzz-glb-scene.json");
+    LoadAndBuild("", ScratchGlb());
     return 0;
   }
   LoadAndBuild(bytes, "fuzz-input.json");

@@ -281,5 +281,26 @@ TEST(CliOverrides, ApplyAndValidate) {
   EXPECT_THROW(ApplyCliOverrides(huge, &settings), CliError);
 }
 
+// A model scene's settings carry its camera's aspect ratio: --width or --height alone keeps it,
+// both given set the size as asked. A JSON scene (aspect 0) keeps the other side as it is.
+TEST(CliOverrides, OneSideAloneKeepsAModelScenesAspect) {
+  auto apply = [](float aspect, std::vector<const char*> args) {
+    RenderSettings s;
+    s.width = 1280;
+    s.height = 720;
+    s.spp = 1;
+    s.maxDepth = 1;
+    s.aspect = aspect;
+    args.insert(args.begin(), {"m.glb", "-o", "o.png"});
+    ApplyCliOverrides(Parse(args), &s);
+    return std::pair<int, int>(s.width, s.height);
+  };
+  EXPECT_EQ(apply(16.0f / 9.0f, {"--width", "320"}), std::make_pair(320, 180));
+  EXPECT_EQ(apply(16.0f / 9.0f, {"--height", "90"}), std::make_pair(160, 90));
+  EXPECT_EQ(apply(2.0f, {"--width", "3"}), std::make_pair(3, 2));  // 1.5 rounds up
+  EXPECT_EQ(apply(16.0f / 9.0f, {"--width", "64", "--height", "64"}), std::make_pair(64, 64));
+  EXPECT_EQ(apply(0.0f, {"--width", "320"}), std::make_pair(320, 720));
+}
+
 }  // namespace
 }  // namespace pt

@@ -2,6 +2,9 @@
 // running it in the foreground or in the background to send it signals.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -56,6 +59,30 @@ inline int RunPathtracerAndSignal(const std::string& args, const std::string& wa
                         " while [ ! -f " + waitFor + " ] && [ $i -lt 600 ]; do sleep 0.05;" +
                         " i=$((i+1)); done; kill -" + signal + " $pid; wait $pid)";
   return RunCommand(command, output);
+}
+
+// Runs the binary on `scene` (with `extraArgs`) as a bad-input run must end: exit status 2, a
+// message naming the scene file, no sanitizer report, the existing `-o` image (dir/kept.png)
+// untouched, and no --hdr or --stats-json file written. Leaves dir as it found it.
+inline void ExpectRefusedWritingNothing(const std::string& scene, const std::string& extraArgs,
+                                        const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::string kept = dir + "/kept.png", hdr = dir + "/new.exr", stats = dir + "/stats.json";
+  WriteText(kept, "old image");
+  std::string output;
+  int status = RunPathtracer("'" + scene + "' " + extraArgs + " -o " + kept + " --hdr " + hdr +
+                                 " --stats-json " + stats + " --backend cpu --threads 1 --quiet",
+                             &output);
+  std::string name = fs::path(scene).filename().string();
+  EXPECT_EQ(status, 2) << name << ": " << output;
+  EXPECT_NE(output.find(scene), std::string::npos) << name << ": names no file: " << output;
+  EXPECT_EQ(output.find("Sanitizer"), std::string::npos) << name << ": " << output;
+  EXPECT_TRUE(ReadText(kept) == "old image") << name << " overwrote the output";
+  EXPECT_FALSE(fs::exists(hdr)) << name;
+  EXPECT_FALSE(fs::exists(stats)) << name;
+  fs::remove(kept);
+  fs::remove(hdr);
+  fs::remove(stats);
 }
 
 }  // namespace pt::test

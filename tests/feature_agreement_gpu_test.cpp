@@ -1,6 +1,7 @@
 // The light-transport features run on the GPU through the same stage bodies and agree with
-// the CPU: textures, adaptive sampling, --light-paths and the feature buffers. (GGX, plastic and
-// depth of field are covered by the per-scene agreement test over scenes/.) Skip without a GPU.
+// the CPU: textures, adaptive sampling, --light-paths, the feature buffers, spot and
+// directional lights. (GGX, plastic and depth of field are covered by the per-scene agreement
+// test over scenes/.) Skip without a GPU.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -86,6 +87,26 @@ TEST(FeatureAgreementGpu, FeatureBuffersMatchTheCpu) {
   for (size_t i = 0; i < cpu.depth.size(); ++i) cd += cpu.depth[i], gd += gpu.depth[i];
   EXPECT_NEAR(ga, ca, 0.01 * ca);
   EXPECT_NEAR(gd, cd, 0.01 * cd);
+}
+
+// Spot (inside, between and outside its cones) and directional lights over a diffuse floor
+// with a box casting shadows and bouncing light: the GPU's image agrees with the CPU's.
+TEST(FeatureAgreementGpu, SpotAndDirectionalLightsMatchTheCpu) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  auto scene = [](uint32_t seed) {
+    std::string json = R"({"render": {"width": 48, "height": 48, "spp": 64, "max_depth": 3, "seed": )" +
+                       std::to_string(seed) + R"(}, "camera": {"position": [0, 8, 0.01], "look_at": [0, 0, 0],
+        "fov_y": 60}, "materials": {"m": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]}},
+        "objects": [{"type": "quad", "origin": [-6, 0, -6], "u": [0, 0, 12], "v": [12, 0, 0], "material": "m"},
+                    {"type": "box", "min": [1, 0, 1], "max": [2.5, 1.5, 2.5], "material": "m"}],
+        "lights": [{"type": "spot", "position": [-1, 3, -1], "direction": [0, -1, 0],
+                    "intensity": [20, 10, 5], "inner_angle": 20, "outer_angle": 45},
+                   {"type": "directional", "direction": [-1, -2, -0.5], "irradiance": [0.5, 0.6, 0.8]}]})";
+    return BuildScene(LoadSceneFromString(json, "spot_sun.json", "."));
+  };
+  FilmImage cpu = RenderOnCpu(scene(1)).image, gpu = RenderCuda(scene(2), {}).image;
+  int windows[4][4] = {{14, 14, 22, 22}, {4, 4, 12, 12}, {30, 30, 40, 40}, {36, 4, 46, 14}};
+  ExpectWindowsAgree(cpu, gpu, windows, 4, "spot/directional window");
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // glTF texture coordinates and textures through the scene loader: a hand-written .gltf (float
 // and normalized unsigned byte TEXCOORD_0, normalized unsigned short TEXCOORD_1, an external
 // PNG used as sRGB colour and as linear data, samplers, KHR_texture_transform, an undecodable
-// image no used material needs) and the Khronos Duck.
+// image: ignored where no used material needs it, an error where one does) and the Khronos Duck.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -180,15 +180,19 @@ TEST(GltfTextures, HandWrittenModelUvsTexelsSamplersAndMaterials) {
     EXPECT_EQ(w.find(honoured), std::string::npos) << honoured << " in: " << w;
 }
 
-TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsWarnedAndIgnored) {
+// An image a used material needs and stb cannot decode is bad input: the picture would lose it.
+TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsAnErrorNamingFileMaterialAndImage) {
   std::string dir = test::TempDir();
   WriteModel(dir, /*firstMaterial=*/2);
-  SceneDesc s = LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf"})");
-  const Material& unused = s.materials[s.triangleMaterials[0]];
-  EXPECT_EQ(unused.baseColorTexture, -1);
-  EXPECT_EQ(unused.albedo, vec3(1.0f));
-  std::string w = WarningsNaming(s, "materials: ");
-  EXPECT_NE(w.find("image #1 (image/png) cannot be decoded (1 material)"), std::string::npos) << w;
+  try {
+    LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf"})");
+    ADD_FAILURE() << "the undecodable image was accepted";
+  } catch (const SceneError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("m.gltf"), std::string::npos) << m;
+    const std::string phrase = "material \"unused\" (#2): image #1 (image/png) cannot be decoded";
+    EXPECT_NE(m.find(phrase), std::string::npos) << m;
+  }
 }
 
 TEST(GltfTextures, OverrideDecodesNothingAndOptionalArraysStayParallel) {

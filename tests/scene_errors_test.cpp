@@ -251,7 +251,7 @@ TEST(SceneErrors, UnknownTypes) {
               "unknown object type \"cylinder\"");
   ExpectError(WithMaterial(R"({"type": "velvet"})"), "materials.m.type", "unknown material type");
   Parts light;
-  light.extra = R"(, "lights": [{"type": "spot", "position": [0, 1, 0], "intensity": [1, 1, 1]}])";
+  light.extra = R"(, "lights": [{"type": "tube", "position": [0, 1, 0], "intensity": [1, 1, 1]}])";
   ExpectError(light, "lights[0].type", "unknown light type");
 }
 

@@ -77,6 +77,9 @@ DICT="$OUT/scene.dict"
            materials type diffuse emissive conductor dielectric plastic albedo radiance two_sided \
            roughness ior absorption objects sphere center radius quad origin u v box min max mesh \
            file material transform matrix scale rotate translate lights point intensity \
+           spot directional direction inner_angle outer_angle irradiance lights_from_file from_file \
+           name index cameras perspective yfov aspectRatio znear KHR_lights_punctual innerConeAngle \
+           outerConeAngle range color nodes camera extensions extensionsUsed extensionsRequired \
            meshes/smooth_shapes.glb meshes/truncated.glb meshes/bad_index.obj meshes/missing_bin.gltf; do
     printf '"\\"%s\\""\n' "$k"
   done

@@ -1,5 +1,6 @@
 #include "src/app/cli.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -142,6 +143,11 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--camera",
+       [](CliOptions& o, ValueSource& s) {
+         o.camera = s.Take();
+         if (o.camera.empty()) throw CliError("empty camera for --camera (an index or a name)");
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {
@@ -343,6 +349,12 @@ void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {
   if (cli.spp) settings->spp = *cli.spp;
   if (cli.width) settings->width = *cli.width;
   if (cli.height) settings->height = *cli.height;
+  if (settings->aspect > 0.0f && cli.width.has_value() != cli.height.has_value()) {
+    double side = cli.width ? double(*cli.width) / settings->aspect
+                            : double(*cli.height) * settings->aspect;  // the other side
+    int other = int(std::clamp(std::lround(side), 1L, long(kMaxImageSide)));
+    (cli.width ? settings->height : settings->width) = other;
+  }
   if (cli.maxDepth) settings->maxDepth = *cli.maxDepth;
   if (cli.seed) settings->seed = *cli.seed;
   if (cli.rrDepth) settings->russianRouletteDepth = *cli.rrDepth;

@@ -1,4 +1,4 @@
-// The command line of ../shared/cli.md parsed into one struct. Both `--flag V` and `--flag=V`
+// The command line of docs/cli.md parsed into one struct. Both `--flag V` and `--flag=V`
 // are accepted; options of features not built yet are refused, never ignored.
 #pragma once
 
@@ -38,6 +38,7 @@ struct CliOptions {
   double previewEverySeconds = 0.0;  // 0 = none
   std::optional<CropWindow> crop;
   std::string sppMapPath;  // --spp-map, empty = none
+  std::string camera;      // --camera, empty = the scene's own
   Toggle adaptive = Toggle::kAuto;  // kAuto: the scene's setting
   LightPaths lightPaths = LightPaths::kAll;
   float rayOffsetEpsilon = 0.0f;    // 0 = robust

@@ -4,9 +4,10 @@
 namespace pt {
 
 std::string CliUsage() {
-  return R"(usage: pathtracer SCENE.json -o OUT [options]
+  return R"(usage: pathtracer SCENE -o OUT [options]
 
-Renders SCENE.json (see scene-format.md) to OUT (.png sRGB; .exr or .pfm linear).
+Renders SCENE to OUT (.png sRGB; .exr or .pfm linear). SCENE is a JSON scene, or a .gltf,
+.glb or .obj file rendered as a whole scene (docs/scene-format.md; options: docs/cli.md).
 Options take `--flag V` or `--flag=V`; they override the scene's values.
 
 Outputs
@@ -19,7 +20,7 @@ Outputs
 
 Image and sampling
   --spp N                  samples per pixel
-  --width W, --height H    image size in pixels
+  --width W, --height H    image size in pixels (one alone keeps a glTF scene's aspect ratio)
   --crop X0 Y0 X1 Y1       render only this pixel window [X0,X1) x [Y0,Y1)
   --max-depth D            most bounces a path may take
   --rr-depth N|off         Russian roulette from bounce N, or never
@@ -30,7 +31,9 @@ Image and sampling
   --clamp L                firefly clamp: scale each sample down to luminance L at most
                            (off by default; biased, and marked so in the stats)
 
-Environment
+Camera and environment
+  --camera N|NAME          the glTF camera to render through, by index or name (default: the
+                           file's first perspective camera, else an automatic one)
   --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
                            the scene's environment or background
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)

@@ -35,7 +35,10 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   Clock::time_point start = Clock::now();
   SceneDesc desc;
   try {
-    desc = LoadScene(cli.scenePath);
+    LoadOptions load;
+    load.camera = cli.camera;
+    load.environmentGiven = !cli.envPath.empty();
+    desc = LoadScene(cli.scenePath, load);
     if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
   } catch (const std::bad_alloc&) {

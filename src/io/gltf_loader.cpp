@@ -10,11 +10,11 @@
 #include <type_traits>
 
 #include "src/io/gltf_material.h"
+#include "src/io/gltf_nodes.h"
+#include "src/io/gltf_scene.h"
 
 namespace pt {
 namespace {
-
-constexpr int kMaxNodeDepth = 256;  // deeper is a cycle (glTF forbids them) or abuse
 
 // tinygltf decodes every image while it parses (seconds for large models, and most images are
 // normal or roughness maps the renderer does not use). This loader only keeps the encoded bytes
@@ -254,31 +254,6 @@ std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygl
   return tri;
 }
 
-glm::dmat4 LocalMatrix(const tinygltf::Node& node) {
-  glm::dmat4 m(1.0);
-  if (node.matrix.size() == 16) {
-    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = node.matrix[i];  // both column-major
-    return m;
-  }
-  glm::dmat3 r(1.0);
-  if (node.rotation.size() == 4) {
-    glm::dvec4 q(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]);
-    double len = glm::length(q);
-    if (len > 0.0) q /= len;
-    double x = q.x, y = q.y, z = q.z, w = q.w;
-    r = glm::dmat3(glm::dvec3(1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w)),
-                   glm::dvec3(2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w)),
-                   glm::dvec3(2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)));
-  }
-  glm::dvec3 s(1.0);
-  if (node.scale.size() == 3) s = glm::dvec3(node.scale[0], node.scale[1], node.scale[2]);
-  for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c] * s[c], 0.0);
-  if (node.translation.size() == 3) {
-    m[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
-  }
-  return m;
-}
-
 // Walks the node hierarchy and emits each mesh's triangles.
 class GltfWalker {
  public:
@@ -286,23 +261,30 @@ class GltfWalker {
       : model_(model), sink_(sink), materials_(model, images, sink) {}
 
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
-    if (index < 0 || size_t(index) >= model_.nodes.size()) {
-      Malformed("node " + std::to_string(index) + " does not exist");
+    const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
+    glm::dmat4 world = parent * GltfLocalMatrix(node);
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model_.meshes.size()) {
+        Malformed("nodes[" + std::to_string(index) + "].mesh: mesh " + std::to_string(node.mesh) +
+                  " does not exist");
+      }
+      EmitMesh(node.mesh, world);
     }
-    if (depth > kMaxNodeDepth) Malformed("the node hierarchy is cyclic or too deep");
-    const tinygltf::Node& node = model_.nodes[index];
-    glm::dmat4 world = parent * LocalMatrix(node);
-    if (node.mesh >= 0) EmitMesh(node.mesh, world);
     for (int child : node.children) VisitNode(child, world, depth + 1);
   }
 
  private:
   void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
-    if (size_t(meshIndex) >= model_.meshes.size()) {
-      Malformed("mesh " + std::to_string(meshIndex) + " does not exist");
-    }
     sink_.SetTransform(toWorld);
-    for (const tinygltf::Primitive& p : model_.meshes[meshIndex].primitives) EmitPrimitive(p);
+    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    for (size_t i = 0; i < mesh.primitives.size(); ++i) {
+      try {
+        EmitPrimitive(mesh.primitives[i]);
+      } catch (const std::runtime_error& e) {  // name the part: the file may have hundreds
+        Malformed("meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(i) +
+                  "]: " + e.what());
+      }
+    }
   }
 
   // An optional per-vertex attribute; its count must match the positions'.
@@ -379,34 +361,25 @@ class GltfWalker {
   bool warnedMode_ = false;
 };
 
-std::vector<int> RootNodes(const tinygltf::Model& model) {
-  if (!model.scenes.empty()) {
-    int scene = (model.defaultScene >= 0 && size_t(model.defaultScene) < model.scenes.size())
-                    ? model.defaultScene : 0;
-    return model.scenes[scene].nodes;
-  }
-  // No scenes: every node that is nobody's child.
-  std::vector<bool> isChild(model.nodes.size(), false);
-  for (const tinygltf::Node& n : model.nodes) {
-    for (int c : n.children) {
-      if (c >= 0 && size_t(c) < isChild.size()) isChild[c] = true;
-    }
-  }
-  std::vector<int> roots;
-  for (size_t i = 0; i < model.nodes.size(); ++i) {
-    if (!isChild[i]) roots.push_back(int(i));
-  }
-  return roots;
-}
-
 }  // namespace
 
-void LoadGltfMesh(const std::string& path, MeshSink& sink) {
+GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
   GltfEncodedImages images;
   tinygltf::Model model = ReadModel(path, sink, images);
+  CheckGltfRequiredExtensions(model);
   GltfWalker walker(model, images, sink);
-  for (int root : RootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
+  for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();
+  return ReadGltfSceneContents(model, sink.ObjectToWorld());
+}
+
+GltfSceneContents ReadGltfSceneParts(const std::string& path) {
+  SceneDesc unused;
+  MeshSink sink(unused, glm::dmat4(1.0), -1, path);
+  GltfEncodedImages images;
+  tinygltf::Model model = ReadModel(path, sink, images);
+  CheckGltfRequiredExtensions(model);
+  return ReadGltfSceneContents(model, glm::dmat4(1.0));
 }
 
 }  // namespace pt

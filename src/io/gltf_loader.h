@@ -8,12 +8,17 @@
 #include <string>
 #include <vector>
 
+#include "src/io/gltf_scene.h"
 #include "src/io/mesh_common.h"
 
 namespace pt {
 
-// Loads the file's triangles into the sink (its materials too, unless the sink overrides them).
-// Throws std::runtime_error for an unreadable or malformed file.
-void LoadGltfMesh(const std::string& path, MeshSink& sink);
+// Loads the file's triangles into the sink (its materials too, unless the sink overrides them)
+// and returns its cameras, lights and ignored parts (src/io/gltf_scene.h), placed by the
+// sink's object transform. Throws std::runtime_error for an unreadable or malformed file.
+GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink);
+
+// The cameras, lights and ignored parts alone (no triangles), in the file's own space.
+GltfSceneContents ReadGltfSceneParts(const std::string& path);
 
 }  // namespace pt

@@ -240,13 +240,19 @@ uint32_t GltfMaterialTable::Index(int index) {
   for (const std::string& a : mapped.approximations) Note(a, index);
   Material& m = mapped.material;
   GltfVertexNeeds& needs = needs_[index < 0 ? needs_.size() - 1 : size_t(index)];
-  if (!legacy) {
-    needs.colors = true;
-    ResolveTextures(source, index, m);
-    UsePlainMaterialWhereExact(m, colored_.count(index) > 0);
-  } else if (m.type == MaterialType::kConductor || m.type == MaterialType::kPlastic) {
-    Slot base{source.pbrMetallicRoughness.baseColorTexture.index, 0, nullptr};
-    m.baseColorTexture = AddSlot(base, true, "baseColorTexture", index);
+  try {  // a texture a used material needs and cannot have is an error naming the material
+    if (!legacy) {
+      needs.colors = true;
+      ResolveTextures(source, index, m);
+      UsePlainMaterialWhereExact(m, colored_.count(index) > 0);
+    } else if (m.type == MaterialType::kConductor || m.type == MaterialType::kPlastic) {
+      Slot base{source.pbrMetallicRoughness.baseColorTexture.index, 0, nullptr};
+      m.baseColorTexture = AddSlot(base, true, "baseColorTexture", index);
+    }
+  } catch (const std::runtime_error& e) {
+    std::string which = index < 0 ? std::string("default material")
+                                  : "material \"" + source.name + "\" (#" + std::to_string(index) + ")";
+    throw std::runtime_error(which + ": " + e.what());
   }
   std::string name = source.name;
   if (index < 0) {

@@ -164,7 +164,8 @@ int32_t GltfMaterialTable::SceneTexture(int texture, bool srgb, int material) {
   return slot;
 }
 
-// Decodes image `image` and stores it as a scene texture; -2 with a note when it cannot be read.
+// Decodes image `image` and stores it as a scene texture. An image a used material needs that
+// is missing or that stb cannot decode is bad input (the picture would silently lose it).
 int32_t GltfMaterialTable::ImageTexels(int image, bool srgb, TextureWrap wrapS, TextureWrap wrapT,
                                        int material) {
   const tinygltf::Image& source = model_.images[image];
@@ -179,8 +180,7 @@ int32_t GltfMaterialTable::ImageTexels(int image, bool srgb, TextureWrap wrapS, 
     bytes = images_[image].data();
     size = images_[image].size();
   } else {
-    Note(which + " (\"" + source.uri + "\") could not be read", material);
-    return -2;
+    throw std::runtime_error(which + " (\"" + source.uri + "\") cannot be read");
   }
   tinygltf::Image decoded;
   decoded.name = source.name;
@@ -188,8 +188,8 @@ int32_t GltfMaterialTable::ImageTexels(int image, bool srgb, TextureWrap wrapS, 
   if (size > size_t(INT_MAX) ||
       !tinygltf::LoadImageData(&decoded, image, &err, &warn, 0, 0, bytes, int(size), nullptr)) {
     std::string type = source.mimeType.empty() ? std::string() : " (" + source.mimeType + ")";
-    Note(which + type + " cannot be decoded", material);
-    return -2;
+    throw std::runtime_error(which + type + " cannot be decoded" +
+                             (err.empty() ? std::string() : " (" + OneLine(err) + ")"));
   }
   bool wide = false;
   std::vector<uint32_t> texels = Rgba8Texels(decoded, &wide);

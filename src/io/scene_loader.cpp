@@ -11,8 +11,7 @@
 
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
-#include "src/io/gltf_loader.h"
-#include "src/io/obj_loader.h"
+#include "src/io/model_scene.h"
 #include "src/io/scene_json.h"
 #include "src/scene/transform.h"
 
@@ -213,20 +212,14 @@ void ParseBox(const JsonObject& o, LoadState& state) {
   if (state.scene.quads.size() - before != 6) o.FailHere("the transformed box is degenerate");
 }
 
-std::string LowerExtension(const std::string& file) {
-  std::string ext = fs::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
 void ParseMesh(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "file", "material", "transform"}, "a mesh");
+  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file"}, "a mesh");
   std::string file = o.String("file");
   int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
+  bool lightsFromFile = o.BoolOr("lights_from_file", true);
   glm::mat4 m = ObjectTransform(o);
-  std::string ext = LowerExtension(file);
-  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
-    o.Fail("file", "unsupported mesh format \"" + ext + "\" in \"" + file +
+  if (!IsModelFile(file)) {
+    o.Fail("file", "unsupported mesh format \"" + LowerExtension(file) + "\" in \"" + file +
                        "\" (expected .gltf, .glb or .obj)");
   }
   fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : fs::path(state.baseDir) / file;
@@ -238,15 +231,15 @@ void ParseMesh(const JsonObject& o, LoadState& state) {
   size_t trianglesBefore = scene.triangles.size();
   int skippedBefore = scene.skippedDegenerateTriangles;
   MeshSink sink(scene, glm::dmat4(m), material, file);
+  GltfSceneContents contents;
   try {
-    if (ext == ".obj") {
-      LoadObjMesh(resolved.string(), sink);
-    } else {
-      LoadGltfMesh(resolved.string(), sink);
-    }
+    contents = LoadModelFile(resolved.string(), sink);
   } catch (const std::runtime_error& e) {
     o.Fail("file", "\"" + resolved.string() + "\": " + e.what());
   }
+  if (lightsFromFile) AddGltfLights(contents, scene);
+  std::string summary = GltfSceneSummary(file, contents);
+  if (!summary.empty()) scene.warnings.push_back(summary);
   int skipped = scene.skippedDegenerateTriangles - skippedBefore;
   if (skipped > 0) {
     state.skippedByFile += (state.skippedByFile.empty() ? "" : ", ") + file + " (" +
@@ -275,6 +268,27 @@ void ParseObjects(const JsonObject& root, LoadState& state) {
   }
 }
 
+// Angles in degrees, as everywhere in the format; stored in radians.
+SpotLightDesc ParseSpotLight(const JsonObject& l) {
+  l.AllowOnly({"type", "position", "direction", "intensity", "inner_angle", "outer_angle"},
+              "a spot light");
+  SpotLightDesc s;
+  s.position = l.Vec3("position");
+  vec3 direction = l.Vec3("direction");
+  if (!(glm::length(glm::dvec3(direction)) > 0.0)) l.Fail("direction", "must not be the zero vector");
+  s.direction = glm::normalize(direction);
+  s.intensity = l.Vec3("intensity", Range::NonNegative());
+  float inner = l.NumberOr("inner_angle", 0.0f, Range{0.0, 90.0, false, true});
+  float outer = l.NumberOr("outer_angle", 45.0f, Range{0.0, 90.0, true, false});
+  if (!(inner < outer)) {
+    l.Fail("inner_angle", FormatNumber(inner) + " must be less than outer_angle (" +
+                              FormatNumber(outer) + ")");
+  }
+  s.innerAngle = float(double(inner) * M_PI / 180.0);
+  s.outerAngle = float(double(outer) * M_PI / 180.0);
+  return s;
+}
+
 void ParseLights(const JsonObject& root, LoadState& state) {
   if (!root.Has("lights")) return;
   JsonValue lights = root.Field("lights");
@@ -286,8 +300,12 @@ void ParseLights(const JsonObject& root, LoadState& state) {
       state.scene.directionalLights.push_back(ParseDirectionalLight(l));
       continue;
     }
+    if (type == "spot") {
+      state.scene.spotLights.push_back(ParseSpotLight(l));
+      continue;
+    }
     if (type != "point") {
-      l.Fail("type", "unknown light type \"" + type + "\" (expected point or directional)");
+      l.Fail("type", "unknown light type \"" + type + "\" (expected point, spot or directional)");
     }
     l.AllowOnly({"type", "position", "intensity"}, "a point light");
     state.scene.pointLights.push_back(
@@ -307,7 +325,7 @@ void CheckFormat(const JsonObject& root) {
 }  // namespace
 
 SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathForMessages,
-                              const std::string& baseDir) {
+                              const std::string& baseDir, const LoadOptions& options) {
   Json json = ParseSceneJson(text, pathForMessages);
   JsonObject root(JsonValue(json, "", pathForMessages));
   CheckFormat(root);  // first: a later format may have fields this one does not know
@@ -318,7 +336,15 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   scene.path = pathForMessages;
   LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}};
   scene.render = ParseRender(root.Object("render"));
-  scene.camera = ParseCamera(root.Object("camera"));
+  JsonObject camera = root.Object("camera");
+  if (camera.Has("from_file")) {
+    scene.camera = ParseCameraFromFile(camera, state.baseDir, options.camera);
+  } else if (!options.camera.empty()) {
+    camera.FailHere("--camera picks a camera of a glTF file, and this camera is given in the "
+                    "scene (take one from a file with \"camera\": {\"from_file\": ...})");
+  } else {
+    scene.camera = ParseCamera(camera);
+  }
   scene.background = root.Vec3Or("background", vec3(0.0f), Range::NonNegative());
   if (root.Has("environment")) {
     if (root.Has("background")) {
@@ -337,7 +363,8 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   return scene;
 }
 
-SceneDesc LoadScene(const std::string& path) {
+SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
+  if (IsModelFile(path)) return LoadModelScene(path, options);
   std::error_code ec;
   if (!fs::exists(path, ec)) throw SceneError(path, "", "cannot open the scene file: no such file");
   if (fs::is_directory(path, ec)) throw SceneError(path, "", "is a folder, not a scene file");
@@ -347,7 +374,7 @@ SceneDesc LoadScene(const std::string& path) {
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
   std::string baseDir = fs::path(path).parent_path().string();
-  return LoadSceneFromString(text.str(), path, baseDir);
+  return LoadSceneFromString(text.str(), path, baseDir, options);
 }
 
 }  // namespace pt

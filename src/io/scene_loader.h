@@ -1,4 +1,4 @@
-// Loads a scene file (shared/scene-format.md, version 1) into a SceneDesc: every field checked,
+// Loads a scene file (docs/scene-format.md, version 1) into a SceneDesc: every field checked,
 // every shape in world space. Any problem throws SceneError naming the file and the field.
 #pragma once
 
@@ -18,12 +18,23 @@ class SceneError : public std::runtime_error {
       : std::runtime_error(file + ": " + (field.empty() ? "" : field + ": ") + what) {}
 };
 
-// Reads and parses the file; relative mesh paths resolve against its folder.
-SceneDesc LoadScene(const std::string& path);
+// What a load takes from outside the file (the command line's choices).
+struct LoadOptions {
+  // --camera: a camera of a glTF scene by index or name (or of the file a JSON scene's
+  // camera is taken from); empty = the scene's own choice.
+  std::string camera;
+  // The command line brings the environment (--env): a model scene without lights then gets
+  // no default environment.
+  bool environmentGiven = false;
+};
 
-// Parses scene text. pathForMessages names the file in errors (and SceneDesc::path);
+// Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or
+// .obj file is read as a whole scene (src/io/model_scene.h); anything else as a JSON scene.
+SceneDesc LoadScene(const std::string& path, const LoadOptions& options = {});
+
+// Parses JSON scene text. pathForMessages names the file in errors (and SceneDesc::path);
 // baseDir is the folder relative mesh paths resolve against.
 SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathForMessages,
-                              const std::string& baseDir);
+                              const std::string& baseDir, const LoadOptions& options = {});
 
 }  // namespace pt

@@ -13,12 +13,12 @@
 namespace pt {
 
 struct LightLiSample {
-  vec3 L = vec3(0.0f);       // radiance arriving at refP along wi (point: intensity / d^2)
+  vec3 L = vec3(0.0f);       // radiance arriving at refP along wi (point, spot: intensity / d^2)
   vec3 wi = vec3(0.0f);      // unit direction from refP towards the light
   float pdf = 0.0f;          // solid angle x choice probability; delta: choice probability
   vec3 pLight = vec3(0.0f);  // the sampled point (background: a point beyond the scene)
   vec3 nLight = vec3(0.0f);  // unit geometric normal there (point: 0; background: -wi)
-  bool isDelta = false;      // point light, delta directional: MIS does not apply
+  bool isDelta = false;      // point and spot lights, delta directional: MIS does not apply
   bool isInfinite = false;   // background, directional, map: trace the shadow ray unbounded
   int lightIndex = -1;       // which entry of SceneView::lights was chosen
 };
@@ -236,12 +236,19 @@ PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
       out->nLight = n;
       return true;
     }
-    case LightType::kPoint: {
+    case LightType::kPoint:
+    case LightType::kSpot: {
       vec3 d = light.position - refP;
       float dist2 = glm::dot(d, d);
       if (dist2 == 0.0f) return false;
       out->wi = d / sqrtf(dist2);
-      out->L = light.intensity / dist2;
+      vec3 intensity = light.intensity;
+      if (light.type == LightType::kSpot) {
+        float falloff = light.SpotFalloff(-glm::dot(light.direction, out->wi));
+        if (!(falloff > 0.0f)) return false;  // outside the cone: no shadow ray
+        intensity *= falloff;
+      }
+      out->L = intensity / dist2;
       out->pdf = pmf;
       out->pLight = light.position;
       out->nLight = vec3(0.0f);
@@ -289,7 +296,8 @@ PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight
   float pmf = s.lightPmf[lightIndex];
   switch (light.type) {
     case LightType::kArea: return pmf * AreaLightPdf(s, light, refP, pLight, nLight);
-    case LightType::kPoint: return 0.0f;
+    case LightType::kPoint:
+    case LightType::kSpot: return 0.0f;
     case LightType::kBackground: return pmf * UniformSpherePdf();
     case LightType::kDirectional: {
       vec3 w = glm::normalize(pLight - refP);

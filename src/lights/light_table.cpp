@@ -1,5 +1,8 @@
 #include "src/lights/light_table.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "src/lights/environment.h"
 #include "src/lights/light_sample.h"
 
@@ -66,7 +69,34 @@ void FillDistribution(const std::vector<double>& power, Scene& scene) {
   for (size_t i = 0; i < n; ++i) scene.lightPmf[i] = scene.lightCdf[i + 1] - scene.lightCdf[i];
 }
 
+// The spot's falloff integrated over the sphere of directions: 2 pi times the integral over
+// c = cos(angle to the axis) in [-1, 1] of clamp(c s + o, 0, 1)^2, in closed form (the
+// falloff is 0 below c0 = -o/s, quadratic up to c1 = (1 - o)/s and 1 above).
+double SpotSolidAngle(const Light& light) {
+  double s = light.spotScale, o = light.spotOffset;
+  if (!(s > 0.0)) return o >= 1.0 ? 4.0 * double(kPi) : 0.0;
+  auto cube = [](double v) { return v * v * v; };
+  auto t = [&](double c) { return std::clamp(c * s + o, 0.0, 1.0); };
+  double c0 = std::clamp(-o / s, -1.0, 1.0), c1 = std::clamp((1.0 - o) / s, -1.0, 1.0);
+  double ramp = (cube(t(c1)) - cube(t(c0))) / (3.0 * s);
+  return 2.0 * double(kPi) * (ramp + (1.0 - c1));
+}
+
 }  // namespace
+
+Light MakeSpotLight(const SpotLightDesc& desc) {
+  Light light;
+  light.type = LightType::kSpot;
+  light.position = desc.position;
+  light.direction = glm::normalize(desc.direction);
+  light.intensity = desc.intensity;
+  // glTF KHR_lights_punctual's recommended falloff (its max(0.001, ...) keeps the ramp finite).
+  double cosInner = std::cos(double(desc.innerAngle)), cosOuter = std::cos(double(desc.outerAngle));
+  double scale = 1.0 / std::max(0.001, cosInner - cosOuter);
+  light.spotScale = float(scale);
+  light.spotOffset = float(-cosOuter * scale);
+  return light;
+}
 
 double LightPower(const Scene& scene, const Light& light) {
   switch (light.type) {
@@ -76,6 +106,7 @@ double LightPower(const Scene& scene, const Light& light) {
       return double(Luminance(light.radiance)) * area * double(kPi) * sides;
     }
     case LightType::kPoint: return 4.0 * double(kPi) * double(Luminance(light.intensity));
+    case LightType::kSpot: return SpotSolidAngle(light) * double(Luminance(light.intensity));
     case LightType::kBackground: {
       // pbrt-v4 UniformInfiniteLight::Phi: radiance over the disk of the bounding sphere.
       double r = scene.sceneRadius;
@@ -125,6 +156,7 @@ void BuildLightTable(Scene& scene) {
     light.intensity = point.intensity;
     scene.lights.push_back(light);
   }
+  for (const SpotLightDesc& spot : desc.spotLights) scene.lights.push_back(MakeSpotLight(spot));
   scene.distantLights.clear();
   for (const DirectionalLightDesc& d : desc.directionalLights) {
     Light light = MakeDirectionalLight(d, desc.environment);

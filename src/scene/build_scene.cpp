@@ -1,5 +1,6 @@
 // From loaded shapes to a renderable scene: BVH over every primitive, primitives in leaf
 // order, the light table, and the camera basis.
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -7,6 +8,7 @@
 #include "src/geometry/bvh.h"
 #include "src/geometry/shapes.h"
 #include "src/lights/light_table.h"
+#include "src/scene/auto_camera.h"
 #include "src/scene/scene.h"
 
 namespace pt {
@@ -55,11 +57,16 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
   const SceneDesc& d = scene.desc;
   if (d.triangleNormals.size() != d.triangles.size())
     throw std::runtime_error("internal: triangle normals do not match triangles");
-  scene.camera = MakeCamera(d.camera, d.render.width, d.render.height);
-
   std::vector<PrimRef> unordered;
   std::vector<Aabb> bounds;
   CollectPrimitives(d, unordered, bounds);
+  Aabb world;
+  for (const Aabb& b : bounds) world = Union(world, b);
+  if (d.camera.autoFrame) {  // the image's size is final here (after command-line overrides)
+    float aspect = float(d.render.width) / float(std::max(1, d.render.height));
+    scene.desc.camera = FrameBounds(world.lo, world.hi, aspect, d.camera.fovY);
+  }
+  scene.camera = MakeCamera(d.camera, d.render.width, d.render.height);
 
   auto t0 = std::chrono::steady_clock::now();
   BvhBuildResult bvh = BuildBvh(bounds, options);
@@ -69,8 +76,6 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
   scene.prims.reserve(unordered.size());
   for (uint32_t i : bvh.primOrder) scene.prims.push_back(unordered[i]);
 
-  Aabb world;
-  for (const Aabb& b : bounds) world = Union(world, b);
   if (!bounds.empty()) {
     scene.sceneCenter = 0.5f * (world.lo + world.hi);
     scene.sceneRadius = std::max(1e-6f, 0.5f * glm::length(world.hi - world.lo));

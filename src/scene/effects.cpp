@@ -37,11 +37,13 @@ uint32_t AnalyzeEffects(const Scene& scene) {
     if (l.type == LightType::kPoint) e |= kEffectPointLights;
     if (l.type == LightType::kBackground) e |= kEffectBackgroundLight;
     if (l.type == LightType::kDirectional) e |= kEffectDirectionalLights;
+    if (l.type == LightType::kSpot) e |= kEffectSpotLights;
   }
   // The map's code runs whenever there is a map, even a dark one the camera sees.
   if (d.environment.HasMap()) e |= kEffectEnvironmentMap;
   if (!d.directionalLights.empty()) e |= kEffectDirectionalLights;
   if (!d.pointLights.empty()) e |= kEffectPointLights;
+  if (!d.spotLights.empty()) e |= kEffectSpotLights;
   if (d.camera.apertureRadius > 0.0f) e |= kEffectDepthOfField;
   return e;
 }
@@ -53,7 +55,8 @@ std::vector<std::string> EffectNames(uint32_t effects) {
                                  "area_lights",  "point_lights",    "background_light",
                                  "directional_lights", "environment_map",
                                  "gltf_pbr",     "normal_maps",     "alpha",
-                                 "transmission", "emissive_textures", "backface_culling"};
+                                 "transmission", "emissive_textures", "backface_culling",
+                                 "spot_lights"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);

@@ -31,6 +31,7 @@ enum Effect : uint32_t {
   kEffectTransmission = 1u << 17,       // glTF transmission (thin walls or volumes)
   kEffectEmissiveTextures = 1u << 18,
   kEffectBackfaceCulling = 1u << 19,    // single-sided glTF materials (the intersector's)
+  kEffectSpotLights = 1u << 20,
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.

@@ -24,6 +24,9 @@ struct RenderSettings {
   uint32_t seed = 0;
   int russianRouletteDepth = 3;
   AdaptiveSettings adaptive;
+  // > 0: the image's intended width / height (a glTF scene's camera aspect ratio, or its
+  // default 16:9); --width or --height given alone then sets the other side from it.
+  float aspect = 0.0f;
 };
 
 struct CameraDesc {
@@ -33,11 +36,25 @@ struct CameraDesc {
   float fovY = 45.0f;
   float apertureRadius = 0.0f;
   float focusDistance = -1.0f;  // < 0: distance from position to look_at
+  // Frame the scene's bounds when the scene is built (src/scene/auto_camera.h): position,
+  // look_at and up are then computed from the bounds and the image's aspect ratio.
+  bool autoFrame = false;
 };
 
 struct PointLightDesc {
   vec3 position;
   vec3 intensity;
+};
+
+// A spot light: a point light at `position` shining along unit `direction`, of `intensity`
+// (W/sr) on its axis, full inside innerAngle and falling smoothly to 0 at outerAngle (radians,
+// 0 <= inner < outer <= pi/2; the falloff of glTF KHR_lights_punctual, Light::SpotFalloff).
+struct SpotLightDesc {
+  vec3 position = vec3(0.0f);
+  vec3 direction = vec3(0.0f, 0.0f, -1.0f);
+  vec3 intensity = vec3(0.0f);
+  float innerAngle = 0.0f;
+  float outerAngle = 0.7853982f;  // pi/4, glTF's default
 };
 
 // A distant light: irradiance (W/m^2) on a plane facing it, from a cone of directions of
@@ -104,6 +121,7 @@ struct SceneDesc {
   std::vector<uint32_t> sphereMaterials;
   std::vector<PointLightDesc> pointLights;
   std::vector<DirectionalLightDesc> directionalLights;
+  std::vector<SpotLightDesc> spotLights;
   std::vector<Texture> textures;
   std::vector<TextureRef> textureRefs;  // Material texture slots index these
   std::vector<uint32_t> texels;  // RGBA8 pyramids of every texture, back to back

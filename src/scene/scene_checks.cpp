@@ -111,15 +111,18 @@ std::vector<std::string> BackFacingEmitters(const Scene& scene) {
   return warnings;
 }
 
+bool Emits(const Light& light) {
+  switch (light.type) {
+    case LightType::kPoint:
+    case LightType::kSpot: return !IsBlack(light.intensity);
+    case LightType::kDirectional: return !IsBlack(light.irradiance);
+    case LightType::kEnvironmentMap: return true;  // in the table only when it emits
+    default: return !IsBlack(light.radiance);
+  }
+}
+
 bool HasLight(const Scene& scene) {
-  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& light) {
-    switch (light.type) {
-      case LightType::kPoint: return !IsBlack(light.intensity);
-      case LightType::kDirectional: return !IsBlack(light.irradiance);
-      case LightType::kEnvironmentMap: return true;  // only built when some texel emits
-      default: return !IsBlack(light.radiance);
-    }
-  });
+  return std::any_of(scene.lights.begin(), scene.lights.end(), Emits);
 }
 
 // Camera rays that escape see something: the environment (a constant, a map, a sun's disk)
@@ -141,8 +144,8 @@ std::vector<std::string> DarkSceneWarnings(const Scene& scene) {
             "intensity, no sun, a black background or environment): the image will be black"};
   }
   if (scene.prims.empty() && !EnvironmentSeen(scene)) {
-    return {"the scene has no objects and a black background: point lights and delta suns "
-            "alone are never seen, so the image will be black"};
+    return {"the scene has no objects and a black background: point, spot and delta "
+            "directional lights alone are never seen, so the image will be black"};
   }
   return BackFacingEmitters(scene);
 }

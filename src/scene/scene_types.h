@@ -133,21 +133,23 @@ struct TextureRef {
 // ---- Lights ----
 // kBackground is the constant environment; kEnvironmentMap the image one (its texels and
 // sampling tables are SceneView arrays, its frame SceneView::env); kDirectional a distant
-// light: a delta direction, or a cone of directions (a sun disk) sampled uniformly.
+// light: a delta direction, or a cone of directions (a sun disk) sampled uniformly; kSpot a
+// point light whose intensity falls off inside a cone (glTF KHR_lights_punctual's spot).
 enum class LightType : uint32_t {
   kArea = 0,
   kPoint = 1,
   kBackground = 2,
   kDirectional = 3,
   kEnvironmentMap = 4,
+  kSpot = 5,
 };
 
 struct Light {
   LightType type = LightType::kArea;
   uint32_t prim = 0;          // area: index into the BVH-ordered PrimRef array
   vec3 radiance = vec3(0.0f);  // area, background, directional disk: emitted radiance
-  vec3 position = vec3(0.0f);  // point
-  vec3 intensity = vec3(0.0f);  // point: W/sr
+  vec3 position = vec3(0.0f);  // point, spot
+  vec3 intensity = vec3(0.0f);  // point, spot: W/sr (a spot's on its axis)
   uint32_t twoSided = 0;      // area
   // Directional: unit direction from the scene towards the light; the irradiance it gives a
   // plane facing it (W/m^2); the cone's half-angle as cos and as 1 - cos, the latter exact
@@ -156,8 +158,19 @@ struct Light {
   vec3 irradiance = vec3(0.0f);
   float cosAngle = 1.0f;
   float oneMinusCos = 0.0f;
+  // Spot: `direction` is the unit axis the cone points along (away from the light); the
+  // intensity towards unit w is intensity x SpotFalloff(dot(direction, w)), glTF's smooth
+  // falloff: clamp(cos * spotScale + spotOffset, 0, 1)^2, 1 inside the inner cone and 0
+  // outside the outer one.
+  float spotScale = 0.0f;
+  float spotOffset = 1.0f;
 
   PT_HDI bool IsDeltaDirection() const { return oneMinusCos <= 0.0f; }
+  PT_HDI float SpotFalloff(float cosAxis) const {
+    float t = cosAxis * spotScale + spotOffset;
+    t = t > 0.0f ? (t < 1.0f ? t : 1.0f) : 0.0f;
+    return t * t;
+  }
 };
 
 // Where an equirectangular environment map sits in the world and how it is sampled. Texel
