@@ -1,5 +1,18 @@
-// BVH traversal: closest hit for extension rays, any hit for shadow rays. Iterative with a
-// fixed-size stack (no allocation, no recursion), children visited front to back.
+// BVH traversal: closest hit for extension rays, any hit for shadow rays.
+//
+// One single-level traversal per node layout, generic over what a leaf holds: the traversal
+// walks nodes and calls a leaf callback with each leaf's primitive range; the callback tests
+// what the range names (scene primitives, or instances whose own BVH it traverses in turn)
+// and may lower tMax. So a two-level structure is an outer traversal whose leaf callback
+// transforms the ray and runs an inner traversal.
+//
+// Leaf callback contract (any callable):
+//   bool leaf(uint32_t first, uint32_t count, float* tMax)
+// called with the leaf's range [first, first + count) in the BVH's primitive order. It returns
+// true when it accepted a hit (and then, for TraceMode::kClosest, has lowered *tMax to it);
+// in TraceMode::kAny the traversal stops at the first true. Nodes farther than *tMax are culled.
+// The traversal counts the nodes it enters into counters->nodes (counters may be nullptr);
+// counting primitives is the callback's business (PrimLeaf does it).
 #pragma once
 
 #include "src/geometry/aabb.h"
@@ -16,19 +29,25 @@ namespace pt {
 constexpr int kBvhMaxDepth = 64;
 constexpr int kBvhStackSize = kBvhMaxDepth;
 
-namespace detail {
+enum class TraceMode { kClosest, kAny };
 
-// One walk serves both queries; kAnyHit stops at the first accepted primitive. On return
-// *tClosest/*primClosest/*uvClosest hold the nearest hit (primClosest = kNoHit if none).
-template <bool kAnyHit>
-PT_HDI void TraverseBvh(const SceneView& s, const Ray& ray, float* tClosest, uint32_t* primClosest,
-                        vec2* uvClosest, TraversalCounters* counters) {
-  *primClosest = HitRecord::kNoHit;
-  if (s.nodeCount == 0 || s.primCount == 0) return;
-  float tMax = *tClosest;
+// The binary layout: a flat array of BvhNode, root at 0, children adjacent.
+struct BinaryBvh {
+  const BvhNode* nodes = nullptr;
+  uint32_t nodeCount = 0;
+};
+
+PT_HDI BinaryBvh SceneBinaryBvh(const SceneView& s) { return BinaryBvh{s.nodes, s.nodeCount}; }
+
+// Walks a binary BVH front to back (nearer child first) with a fixed-size stack (no allocation,
+// no recursion). *tMax is the ray's extent on entry and the callback's last lowering on return.
+template <TraceMode kMode, typename LeafFn>
+PT_HDI void Traverse(const BinaryBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
+                     TraversalCounters* counters) {
+  if (bvh.nodeCount == 0) return;
+  float tMax = *tMaxInOut;
   const vec3 invDir(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
-  const TriangleRayData triRay = TriangleRayData::Make(ray.d);
-  uint32_t nodesVisited = 0, primsTested = 0;
+  uint32_t nodesVisited = 0;
 
   // Entry distances travel with the stacked nodes so that a node farther than a hit found
   // meanwhile is skipped without reloading it.
@@ -38,28 +57,17 @@ PT_HDI void TraverseBvh(const SceneView& s, const Ray& ray, float* tClosest, uin
 
   uint32_t node = 0;
   float tEntry;
-  bool active =
-      IntersectAabb(s.nodes[0].boundsMin, s.nodes[0].boundsMax, ray.o, invDir, tMax, &tEntry);
+  const BvhNode* nodes = bvh.nodes;
+  bool active = IntersectAabb(nodes[0].boundsMin, nodes[0].boundsMax, ray.o, invDir, tMax, &tEntry);
   while (active) {
     ++nodesVisited;
-    const BvhNode& n = s.nodes[node];
+    const BvhNode& n = nodes[node];
     if (n.IsLeaf()) {
-      for (uint32_t i = n.leftOrFirst, end = n.leftOrFirst + n.count; i < end; ++i) {
-        ++primsTested;
-        float t;
-        vec2 uv;
-        if (IntersectPrim(s, i, ray, triRay, tMax, &t, &uv)) {
-          tMax = t;
-          *primClosest = i;
-          *uvClosest = uv;
-          if (kAnyHit) break;
-        }
-      }
-      if (kAnyHit && *primClosest != HitRecord::kNoHit) break;
+      if (leaf(n.leftOrFirst, n.count, &tMax) && kMode == TraceMode::kAny) break;
     } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior (a 0-count root is empty)
       uint32_t left = n.leftOrFirst;
-      const BvhNode& l = s.nodes[left];
-      const BvhNode& r = s.nodes[left + 1];
+      const BvhNode& l = nodes[left];
+      const BvhNode& r = nodes[left + 1];
       float tl, tr;
       bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, ray.o, invDir, tMax, &tl);
       bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, ray.o, invDir, tMax, &tr);
@@ -89,38 +97,65 @@ PT_HDI void TraverseBvh(const SceneView& s, const Ray& ray, float* tClosest, uin
       }
     }
   }
-  *tClosest = tMax;
-  if (counters) {
-    counters->nodes += nodesVisited;
-    counters->prims += primsTested;
-  }
+  *tMaxInOut = tMax;
+  if (counters) counters->nodes += nodesVisited;
 }
 
-}  // namespace detail
+// The leaf callback for scene primitives: tests s.prims[first, first + count) with
+// IntersectPrim and keeps the nearest accepted one (kAny: stops at the first).
+template <TraceMode kMode>
+struct PrimLeaf {
+  const SceneView& s;
+  const Ray& ray;
+  TriangleRayData triRay;
+  uint32_t prim = HitRecord::kNoHit;
+  vec2 uv = vec2(0.0f);
+  uint32_t tested = 0;
+
+  PT_HDI PrimLeaf(const SceneView& scene, const Ray& r)
+      : s(scene), ray(r), triRay(TriangleRayData::Make(r.d)) {}
+
+  PT_HDI bool operator()(uint32_t first, uint32_t count, float* tMax) {
+    bool found = false;
+    for (uint32_t i = first, end = first + count; i < end; ++i) {
+      ++tested;
+      float t;
+      vec2 hitUv;
+      if (IntersectPrim(s, i, ray, triRay, *tMax, &t, &hitUv)) {
+        *tMax = t;
+        prim = i;
+        uv = hitUv;
+        found = true;
+        if (kMode == TraceMode::kAny) break;
+      }
+    }
+    return found;
+  }
+};
 
 // Nearest primitive with 0 < t < tMax. On a hit fills *hit (t, prim index into s.prims, uv as
 // IntersectPrim gives it) and returns true; on a miss sets hit->prim = kNoHit, hit->t = tMax,
 // hit->uv = 0. Counters (may be nullptr) are added to: nodes entered and primitives tested.
 PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                              TraversalCounters* counters) {
+  PrimLeaf<TraceMode::kClosest> leaf(s, ray);
   float t = tMax;
-  uint32_t prim;
-  vec2 uv(0.0f);
-  detail::TraverseBvh<false>(s, ray, &t, &prim, &uv, counters);
+  if (s.primCount != 0) Traverse<TraceMode::kClosest>(SceneBinaryBvh(s), ray, &t, leaf, counters);
+  if (counters) counters->prims += leaf.tested;
   hit->t = t;
-  hit->prim = prim;
-  hit->uv = uv;
-  return prim != HitRecord::kNoHit;
+  hit->prim = leaf.prim;
+  hit->uv = leaf.uv;
+  return leaf.prim != HitRecord::kNoHit;
 }
 
 // Whether any primitive has 0 < t < tMax (shadow rays); stops at the first one found.
 PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
+  PrimLeaf<TraceMode::kAny> leaf(s, ray);
   float t = tMax;
-  uint32_t prim;
-  vec2 uv(0.0f);
-  detail::TraverseBvh<true>(s, ray, &t, &prim, &uv, counters);
-  return prim != HitRecord::kNoHit;
+  if (s.primCount != 0) Traverse<TraceMode::kAny>(SceneBinaryBvh(s), ray, &t, leaf, counters);
+  if (counters) counters->prims += leaf.tested;
+  return leaf.prim != HitRecord::kNoHit;
 }
 
 }  // namespace pt
