@@ -176,6 +176,16 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
              s, {{"mis", IntegratorMode::kMis}, {"bsdf", IntegratorMode::kBsdf},
                  {"nee", IntegratorMode::kNee}});
        }},
+      {"--bvh",
+       [](CliOptions& o, ValueSource& s) {
+         o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(
+             s, {{"binary", BvhLayout::kBinary}, {"wide", BvhLayout::kWide}, {"auto", std::nullopt}});
+       }},
+      {"--bvh-build",
+       [](CliOptions& o, ValueSource& s) {
+         o.bvhBuilder =
+             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh}});
+       }},
   };
   return table;
 }
@@ -318,6 +328,9 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
   --compact on|off|auto    stream compaction of finished paths (default auto)
   --sort off|material|auto order live paths by material before shading (default auto)
   --integrator mis|bsdf|nee  light transport estimator (default mis)
+  --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = wide on the
+                           GPU, binary on the CPU (the faster on each; default auto)
+  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --reference FILE         log relMSE against this .exr/.pfm image into the stats
   --time-limit SECONDS     stop after this much render time, write what has accumulated
   --preview-every SECONDS  rewrite the outputs as samples accumulate

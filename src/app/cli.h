@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "src/integrator/render_api.h"
+#include "src/scene/scene.h"
 
 namespace pt {
 
@@ -44,6 +45,8 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvhLayout in run.cpp)
+  BvhBuilder bvhBuilder = BvhBuilder::kSah;
 
   bool quiet = false;
   bool help = false;

@@ -83,10 +83,10 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   return desc;
 }
 
-Scene Build(SceneDesc desc, double* bvhBuildMs) {
+Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
   Clock::time_point start = Clock::now();
   try {
-    Scene scene = BuildScene(std::move(desc));
+    Scene scene = BuildScene(std::move(desc), bvh);
     // The builder's own BVH time when it keeps one; else the whole build.
     *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
     return scene;
@@ -125,6 +125,23 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
 }
 
 // auto: CUDA when it is built and a GPU is present, else the CPU.
+// --bvh auto: the wide layout where the render will run on the GPU, the binary one on the
+// CPU (each the faster there: benchmarks/RESULTS.md). Decided before the build, so it asks
+// only whether a GPU would be used; a refused --backend cuda still fails in ChooseBackend.
+BvhBuildOptions ChooseBvh(const CliOptions& cli, const AppBackends& backends) {
+  BvhBuildOptions options;
+  options.builder = cli.bvhBuilder;
+  options.threads = cli.threads;
+  if (cli.bvhLayout) {
+    options.layout = *cli.bvhLayout;
+    return options;
+  }
+  bool gpu = cli.backend != BackendKind::kCpu && backends.cudaSession != nullptr &&
+             backends.cudaDeviceCount && backends.cudaDeviceCount() > 0;
+  options.layout = gpu ? BvhLayout::kWide : BvhLayout::kBinary;
+  return options;
+}
+
 BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
   int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
   bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
@@ -218,7 +235,7 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   CheckOutputsWritable(cli);
   AppTimes times;
   SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
-  Scene scene = Build(std::move(desc), &times.bvhBuildMs);
+  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends), &times.bvhBuildMs);
   PrintEffects(scene, cli.specialize);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);

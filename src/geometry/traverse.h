@@ -1,108 +1,24 @@
-// BVH traversal: closest hit for extension rays, any hit for shadow rays.
+// Scene ray queries: closest hit for extension rays, any hit (occlusion) for shadow rays, over
+// either node layout (--bvh binary|wide), with the leaf callback for scene primitives.
 //
-// One single-level traversal per node layout, generic over what a leaf holds: the traversal
-// walks nodes and calls a leaf callback with each leaf's primitive range; the callback tests
-// what the range names (scene primitives, or instances whose own BVH it traverses in turn)
-// and may lower tMax. So a two-level structure is an outer traversal whose leaf callback
-// transforms the ray and runs an inner traversal.
+// Building blocks for other traversals (e.g. a two-level one):
+//   Traverse<TraceMode>(BinaryBvh or WideBvh, ray, &tMax, leaf, counters)   one BVH level
+//   PrimLeaf<TraceMode>                                                    scene primitives
+// with the leaf-callback contract of traverse_binary.h.
 //
-// Leaf callback contract (any callable):
-//   bool leaf(uint32_t first, uint32_t count, float* tMax)
-// called with the leaf's range [first, first + count) in the BVH's primitive order. It returns
-// true when it accepted a hit (and then, for TraceMode::kClosest, has lowered *tMax to it);
-// in TraceMode::kAny the traversal stops at the first true. Nodes farther than *tMax are culled.
-// The traversal counts the nodes it enters into counters->nodes (counters may be nullptr);
-// counting primitives is the callback's business (PrimLeaf does it).
+// The closest hit does not depend on the order in which nodes are visited: of hits at exactly
+// the same distance, the primitive with the smallest PrimRef::tagIndex (the shape's identity,
+// not its BVH position) wins. So both layouts, and every builder, give the same hit.
 #pragma once
 
-#include "src/geometry/aabb.h"
-#include "src/geometry/interaction.h"
 #include "src/geometry/shapes.h"
-#include "src/scene/scene_view.h"
+#include "src/geometry/traverse_binary.h"
+#include "src/geometry/traverse_wide.h"
 
 namespace pt {
 
-// Deepest leaf BuildBvh makes (root = depth 0); a node deeper than this becomes a leaf whatever
-// its size. Traversal pushes at most one sibling per ancestor of the node it is on, so the stack
-// never holds more than kBvhMaxDepth entries. SAH trees of a few million primitives are ~30-45
-// deep; only pathological inputs (e.g. geometrically spaced primitives) reach the cap.
-constexpr int kBvhMaxDepth = 64;
-constexpr int kBvhStackSize = kBvhMaxDepth;
-
-enum class TraceMode { kClosest, kAny };
-
-// The binary layout: a flat array of BvhNode, root at 0, children adjacent.
-struct BinaryBvh {
-  const BvhNode* nodes = nullptr;
-  uint32_t nodeCount = 0;
-};
-
-PT_HDI BinaryBvh SceneBinaryBvh(const SceneView& s) { return BinaryBvh{s.nodes, s.nodeCount}; }
-
-// Walks a binary BVH front to back (nearer child first) with a fixed-size stack (no allocation,
-// no recursion). *tMax is the ray's extent on entry and the callback's last lowering on return.
-template <TraceMode kMode, typename LeafFn>
-PT_HDI void Traverse(const BinaryBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
-                     TraversalCounters* counters) {
-  if (bvh.nodeCount == 0) return;
-  float tMax = *tMaxInOut;
-  const vec3 invDir(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
-  uint32_t nodesVisited = 0;
-
-  // Entry distances travel with the stacked nodes so that a node farther than a hit found
-  // meanwhile is skipped without reloading it.
-  uint32_t stackNode[kBvhStackSize];
-  float stackT[kBvhStackSize];
-  int stackSize = 0;
-
-  uint32_t node = 0;
-  float tEntry;
-  const BvhNode* nodes = bvh.nodes;
-  bool active = IntersectAabb(nodes[0].boundsMin, nodes[0].boundsMax, ray.o, invDir, tMax, &tEntry);
-  while (active) {
-    ++nodesVisited;
-    const BvhNode& n = nodes[node];
-    if (n.IsLeaf()) {
-      if (leaf(n.leftOrFirst, n.count, &tMax) && kMode == TraceMode::kAny) break;
-    } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior (a 0-count root is empty)
-      uint32_t left = n.leftOrFirst;
-      const BvhNode& l = nodes[left];
-      const BvhNode& r = nodes[left + 1];
-      float tl, tr;
-      bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, ray.o, invDir, tMax, &tl);
-      bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, ray.o, invDir, tMax, &tr);
-      if (hitL && hitR) {
-        bool leftFirst = tl <= tr;
-        if (stackSize < kBvhStackSize) {  // always true for BuildBvh's trees (see above)
-          stackNode[stackSize] = leftFirst ? left + 1 : left;
-          stackT[stackSize] = leftFirst ? tr : tl;
-          ++stackSize;
-        }
-        node = leftFirst ? left : left + 1;
-        continue;
-      }
-      if (hitL || hitR) {
-        node = hitL ? left : left + 1;
-        continue;
-      }
-    }
-    // Pop the nearest pending node that may still hold something closer than tMax.
-    active = false;
-    while (stackSize > 0) {
-      --stackSize;
-      if (stackT[stackSize] <= tMax * kAabbFarScale) {  // as IntersectAabb culls
-        node = stackNode[stackSize];
-        active = true;
-        break;
-      }
-    }
-  }
-  *tMaxInOut = tMax;
-  if (counters) counters->nodes += nodesVisited;
-}
-
-// The leaf callback for scene primitives: tests s.prims[first, first + count) with
-// IntersectPrim and keeps the nearest accepted one (kAny: stops at the first).
+// Tests s.prims[first, first + count) with IntersectPrim. kClosest keeps the nearest accepted
+// primitive (ties by tagIndex); kAny stops at the first.
 template <TraceMode kMode>
 struct PrimLeaf {
   const SceneView& s;
@@ -121,26 +37,45 @@ struct PrimLeaf {
       ++tested;
       float t;
       vec2 hitUv;
-      if (IntersectPrim(s, i, ray, triRay, *tMax, &t, &hitUv)) {
-        *tMax = t;
+      if (kMode == TraceMode::kAny) {
+        if (!IntersectPrim(s, i, ray, triRay, *tMax, &t, &hitUv)) continue;
         prim = i;
-        uv = hitUv;
-        found = true;
-        if (kMode == TraceMode::kAny) break;
+        return true;
       }
+      // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
+      float limit = prim == HitRecord::kNoHit ? *tMax : NextFloatUp(*tMax);
+      if (!IntersectPrim(s, i, ray, triRay, limit, &t, &hitUv)) continue;
+      if (!(t < *tMax) && !(s.prims[i].tagIndex < s.prims[prim].tagIndex)) continue;
+      *tMax = t;
+      prim = i;
+      uv = hitUv;
+      found = true;
     }
     return found;
   }
 };
 
+// One level over the scene's own BVH in layout L.
+template <BvhLayout L, TraceMode kMode, typename LeafFn>
+PT_HDI void TraverseScene(const SceneView& s, const Ray& ray, float* tMax, LeafFn& leaf,
+                          TraversalCounters* counters) {
+  if (s.primCount == 0) return;
+  if constexpr (L == BvhLayout::kWide) {
+    Traverse<kMode>(SceneWideBvh(s), ray, tMax, leaf, counters);
+  } else {
+    Traverse<kMode>(SceneBinaryBvh(s), ray, tMax, leaf, counters);
+  }
+}
+
 // Nearest primitive with 0 < t < tMax. On a hit fills *hit (t, prim index into s.prims, uv as
 // IntersectPrim gives it) and returns true; on a miss sets hit->prim = kNoHit, hit->t = tMax,
 // hit->uv = 0. Counters (may be nullptr) are added to: nodes entered and primitives tested.
-PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
-                             TraversalCounters* counters) {
+template <BvhLayout L>
+PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
+                               TraversalCounters* counters) {
   PrimLeaf<TraceMode::kClosest> leaf(s, ray);
   float t = tMax;
-  if (s.primCount != 0) Traverse<TraceMode::kClosest>(SceneBinaryBvh(s), ray, &t, leaf, counters);
+  TraverseScene<L, TraceMode::kClosest>(s, ray, &t, leaf, counters);
   if (counters) counters->prims += leaf.tested;
   hit->t = t;
   hit->prim = leaf.prim;
@@ -149,13 +84,29 @@ PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, Hit
 }
 
 // Whether any primitive has 0 < t < tMax (shadow rays); stops at the first one found.
-PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
-                         TraversalCounters* counters) {
+template <BvhLayout L>
+PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
+                           TraversalCounters* counters) {
   PrimLeaf<TraceMode::kAny> leaf(s, ray);
   float t = tMax;
-  if (s.primCount != 0) Traverse<TraceMode::kAny>(SceneBinaryBvh(s), ray, &t, leaf, counters);
+  TraverseScene<L, TraceMode::kAny>(s, ray, &t, leaf, counters);
   if (counters) counters->prims += leaf.tested;
   return leaf.prim != HitRecord::kNoHit;
+}
+
+// The same in the layout the view names (a run-time choice; stages instantiate per layout).
+PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
+                             TraversalCounters* counters) {
+  return s.bvhLayout == BvhLayout::kWide
+             ? IntersectClosestIn<BvhLayout::kWide>(s, ray, tMax, hit, counters)
+             : IntersectClosestIn<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
+}
+
+PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
+                         TraversalCounters* counters) {
+  return s.bvhLayout == BvhLayout::kWide
+             ? IntersectAnyIn<BvhLayout::kWide>(s, ray, tMax, counters)
+             : IntersectAnyIn<BvhLayout::kBinary>(s, ray, tMax, counters);
 }
 
 }  // namespace pt

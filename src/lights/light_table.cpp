@@ -1,5 +1,7 @@
 #include "src/lights/light_table.h"
 
+#include <algorithm>
+
 #include "src/lights/light_sample.h"
 
 namespace pt {
@@ -58,14 +60,29 @@ void BuildLightTable(Scene& scene) {
   const SceneDesc& desc = scene.desc;
   scene.lights.clear();
   scene.backgroundLight = -1;
+  // Area lights in the order of the shapes (tagIndex), not of the BVH's leaves, so the table
+  // and every light choice are the same whatever the layout or builder; a shape that spatial
+  // splits put in several leaves is one light, named by every copy.
+  std::vector<uint32_t> emitters;
   for (size_t i = 0; i < scene.prims.size(); ++i) {
     PrimRef& prim = scene.prims[i];
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
-    if (m.type != MaterialType::kEmissive || IsBlack(m.radiance)) continue;
+    if (m.type == MaterialType::kEmissive && !IsBlack(m.radiance)) emitters.push_back(uint32_t(i));
+  }
+  std::stable_sort(emitters.begin(), emitters.end(), [&](uint32_t a, uint32_t b) {
+    return scene.prims[a].tagIndex < scene.prims[b].tagIndex;
+  });
+  for (size_t k = 0; k < emitters.size(); ++k) {
+    PrimRef& prim = scene.prims[emitters[k]];
+    if (k > 0 && prim.tagIndex == scene.prims[emitters[k - 1]].tagIndex) {
+      prim.light = scene.prims[emitters[k - 1]].light;
+      continue;
+    }
+    const Material& m = desc.materials[prim.material];
     Light light;
     light.type = LightType::kArea;
-    light.prim = uint32_t(i);
+    light.prim = emitters[k];
     light.radiance = m.radiance;
     light.twoSided = m.twoSided;
     prim.light = int32_t(scene.lights.size());
