@@ -40,7 +40,11 @@ timeout 60 $B --scene benchmarks/scenes/bunny_cornell.json --out "$TMP/primary" 
 timeout 150 $B --scene benchmarks/scenes/breakfast_room_bunnies.json --out "$TMP/large"
 for part in pbrt scenes primary large; do
   [ -f "$TMP/$part.md" ] && { echo "## $part"; cat "$TMP/$part.md"; echo; } >> "$OUT/bench.md"
-  [ -f "$TMP/$part.csv" ] && { [ -f "$OUT/bench.csv" ] && tail -n +2 "$TMP/$part.csv" || cat "$TMP/$part.csv"; } >> "$OUT/bench.csv"
+  # The header once: the first part's file is copied whole, the others without their first line.
+  if [ -f "$TMP/$part.csv" ]; then
+    if [ -s "$OUT/bench.csv" ]; then tail -n +2 "$TMP/$part.csv" >> "$OUT/bench.csv"
+    else cp "$TMP/$part.csv" "$OUT/bench.csv"; fi
+  fi
 done
 python3 - "$OUT/bench.csv" <<'EOF' | tee -a "$OUT/bench.md"
 import csv, statistics, sys

@@ -45,7 +45,7 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
-  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvhLayout in run.cpp)
+  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
   BvhBuilder bvhBuilder = BvhBuilder::kSah;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
