@@ -2,7 +2,7 @@
 // random rays through it on N threads and prints rays/s for closest-hit and any-hit queries.
 //
 //   bvh_bench SCENE.json [--threads N] [--rays N] [--repeats N] [--bvh binary|wide|all]
-//             [--bvh-build sah|sbvh|all] [--rays-kind inside|outside]
+//             [--bvh-build sah|sbvh|all] [--rays-kind inside|outside] [--check]
 //
 // Rays (fixed seed, the same for every layout): "inside" start uniformly in the scene's bounding
 // box with uniform directions (incoherent secondary rays); "outside" start on the bounding
@@ -32,6 +32,7 @@ struct Args {
   std::vector<BvhLayout> layouts = {BvhLayout::kBinary, BvhLayout::kWide};
   std::vector<BvhBuilder> builders = {BvhBuilder::kSah};
   bool inside = true;
+  bool check = false;  // compare layouts and builders ray by ray instead of timing
 };
 
 double Seconds() {
@@ -145,6 +146,58 @@ void RunOne(const Args& args, const SceneDesc& desc, BvhBuilder builder, BvhLayo
   if (hitsClosest != hitsAny) std::printf("  ERROR: closest and any-hit disagree on hits\n");
 }
 
+// --check: every ray's closest hit (distance, shape, barycentrics) and any-hit answer under
+// the binary SAH tree against each other builder/layout; prints the first disagreements.
+int CheckLayouts(const Args& args, const SceneDesc& desc) {
+  BvhBuildOptions refOptions;
+  refOptions.threads = args.threads;
+  Scene ref = BuildScene(desc, refOptions);
+  SceneView refView = HostSceneView(ref);
+  std::vector<Ray> rays = MakeRays(ref, args.rays, args.inside);
+  int bad = 0;
+  for (BvhBuilder b : args.builders) {
+    for (BvhLayout l : args.layouts) {
+      BvhBuildOptions options = refOptions;
+      options.builder = b;
+      options.layout = l;
+      Scene other = BuildScene(desc, options);
+      SceneView view = HostSceneView(other);
+      size_t mismatches = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        HitRecord h0, h1;
+        bool a = IntersectClosest(refView, rays[i], kInfinity, &h0, nullptr);
+        bool c = IntersectClosest(view, rays[i], kInfinity, &h1, nullptr);
+        bool same = a == c && (!a || (h0.t == h1.t && h0.uv == h1.uv &&
+                                      refView.prims[h0.prim].tagIndex == view.prims[h1.prim].tagIndex));
+        float shadowT = a ? 0.999f * h0.t : 10.0f;
+        same = same && IntersectAny(refView, rays[i], shadowT, nullptr) ==
+                           IntersectAny(view, rays[i], shadowT, nullptr);
+        if (same) continue;
+        // Brute force over every primitive: which of the two is right.
+        float bruteT = kInfinity;
+        uint32_t bruteShape = 0;
+        for (uint32_t p = 0; p < refView.primCount; ++p) {
+          float t;
+          vec2 uv;
+          if (IntersectPrim(refView, p, rays[i], bruteT, &t, &uv))
+            bruteT = t, bruteShape = refView.prims[p].tagIndex;
+        }
+        if (++mismatches <= 5)
+          std::printf("  brute force: t %.9g shape %u\n", bruteT, bruteShape);
+        if (mismatches <= 5)
+          std::printf("  %s %s ray %zu: o (%.9g %.9g %.9g) d (%.9g %.9g %.9g): t %.9g vs %.9g, shape %u vs %u\n",
+                      BvhBuilderName(b), BvhLayoutName(l), i, rays[i].o.x, rays[i].o.y, rays[i].o.z,
+                      rays[i].d.x, rays[i].d.y, rays[i].d.z, h0.t, h1.t,
+                      a ? refView.prims[h0.prim].tagIndex : 0u, c ? view.prims[h1.prim].tagIndex : 0u);
+      }
+      std::printf("%-6s %-6s %zu of %zu rays disagree with binary sah\n", BvhBuilderName(b),
+                  BvhLayoutName(l), mismatches, rays.size());
+      bad += mismatches != 0;
+    }
+  }
+  return bad ? 1 : 0;
+}
+
 }  // namespace
 }  // namespace pt
 
@@ -161,6 +214,7 @@ int main(int argc, char** argv) {
     else if (a == "--rays") args.rays = std::stoi(next());
     else if (a == "--repeats") args.repeats = std::stoi(next());
     else if (a == "--rays-kind") args.inside = next() == "inside";
+    else if (a == "--check") args.check = true;
     else if (a == "--bvh") {
       std::string v = next();
       args.layouts.clear();
@@ -176,13 +230,15 @@ int main(int argc, char** argv) {
   }
   if (args.scene.empty() || args.layouts.empty() || args.builders.empty() || args.threads < 1) {
     std::fprintf(stderr, "usage: bvh_bench SCENE.json [--threads N] [--rays N] [--repeats N] "
-                         "[--bvh binary|wide|all] [--bvh-build sah|sbvh|all] [--rays-kind inside|outside]\n");
+                         "[--bvh binary|wide|all] [--bvh-build sah|sbvh|all] [--rays-kind inside|outside] "
+                         "[--check]\n");
     return 1;
   }
   SceneDesc desc = LoadScene(args.scene);
   std::printf("%s: %zu triangles, %d threads, %d %s rays, medians of %d\n", args.scene.c_str(),
               desc.triangles.size(), args.threads, args.rays, args.inside ? "inside" : "outside",
               args.repeats);
+  if (args.check) return CheckLayouts(args, desc);
   for (BvhBuilder b : args.builders)
     for (BvhLayout l : args.layouts) RunOne(args, desc, b, l);
   return 0;
