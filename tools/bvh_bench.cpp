@@ -175,15 +175,23 @@ int CheckLayouts(const Args& args, const SceneDesc& desc) {
         if (same) continue;
         // Brute force over every primitive: which of the two is right.
         float bruteT = kInfinity;
-        uint32_t bruteShape = 0;
+        uint32_t bruteShape = 0, bruteIndex = 0;
         for (uint32_t p = 0; p < refView.primCount; ++p) {
           float t;
           vec2 uv;
           if (IntersectPrim(refView, p, rays[i], bruteT, &t, &uv))
-            bruteT = t, bruteShape = refView.prims[p].tagIndex;
+            bruteT = t, bruteShape = refView.prims[p].tagIndex, bruteIndex = p;
         }
         if (++mismatches <= 5)
-          std::printf("  brute force: t %.9g shape %u\n", bruteT, bruteShape);
+          {
+            Aabb box = PrimBounds(refView, bruteIndex);
+            vec3 inv(1.0f / rays[i].d.x, 1.0f / rays[i].d.y, 1.0f / rays[i].d.z);
+            float entry = -1.0f;
+            bool boxHit = IntersectAabb(box.lo, box.hi, rays[i].o, inv, kInfinity, &entry);
+            std::printf("  brute force: t %.9g shape %u; its box: hit %d entry %.9g extent (%g %g %g)\n",
+                        bruteT, bruteShape, int(boxHit), entry, box.hi.x - box.lo.x,
+                        box.hi.y - box.lo.y, box.hi.z - box.lo.z);
+          }
         if (mismatches <= 5)
           std::printf("  %s %s ray %zu: o (%.9g %.9g %.9g) d (%.9g %.9g %.9g): t %.9g vs %.9g, shape %u vs %u\n",
                       BvhBuilderName(b), BvhLayoutName(l), i, rays[i].o.x, rays[i].o.y, rays[i].o.z,
