@@ -10,12 +10,14 @@
 #include <gtest/gtest.h>
 
 #include "tests/hard_geometry_util.h"
+#include "tests/brute_force.h"
 
 namespace pt {
 namespace {
 
 using hard::BuildShapes;
 using hard::ShapeScene;
+using test::BruteForceClosest;
 // Uniform on the sphere (z and azimuth uniform).
 vec3 RandomUnit(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -62,16 +64,6 @@ ShapeScene BuildSoup(const Soup& s, BvhLayout layout, BvhBuilder builder) {
   return BuildShapes(s.tris, s.quads, s.spheres, Options(layout, builder));
 }
 
-bool BruteForce(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit) {
-  hit->prim = HitRecord::kNoHit;
-  for (uint32_t i = 0; i < s.primCount; ++i) {
-    float t;
-    vec2 uv;
-    if (IntersectPrim(s, i, ray, tMax, &t, &uv)) *hit = HitRecord{t, i, uv}, tMax = t;
-  }
-  return hit->prim != HitRecord::kNoHit;
-}
-
 // Random rays from inside the soup's box, and rays lying in a random triangle's plane aimed at
 // one of its vertices or edge midpoints (grazing: the hard case of the box and triangle tests).
 std::vector<Ray> MakeRays(const Soup& s, int count, uint32_t seed) {
@@ -108,7 +100,7 @@ TEST_P(WideAndSbvh, MatchesBruteForceOnRandomAndGrazingRays) {
     float tMax = i % 5 == 0 ? 3.0f * u01(rng) : kInfinity;
     HitRecord bvh, brute;
     bool hitBvh = IntersectClosest(scene.view, ray, tMax, &bvh, nullptr);
-    ASSERT_EQ(hitBvh, BruteForce(scene.view, ray, tMax, &brute)) << "ray " << i;
+    ASSERT_EQ(hitBvh, BruteForceClosest(scene.view, ray, tMax, &brute)) << "ray " << i;
     ASSERT_EQ(IntersectAny(scene.view, ray, tMax, nullptr), hitBvh) << "ray " << i;
     if (!hitBvh) continue;
     ++hits;
