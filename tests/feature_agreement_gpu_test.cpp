@@ -105,8 +105,8 @@ TEST(FeatureAgreementGpu, SpotAndDirectionalLightsMatchTheCpu) {
     return BuildScene(LoadSceneFromString(json, "spot_sun.json", "."));
   };
   FilmImage cpu = RenderOnCpu(scene(1)).image, gpu = RenderCuda(scene(2), {}).image;
-  int windows[4][4] = {{14, 14, 22, 22}, {4, 4, 12, 12}, {30, 30, 40, 40}, {36, 4, 46, 14}};
-  ExpectWindowsAgree(cpu, gpu, windows, 4, "spot/directional window");
+  std::vector<Window> windows = {{14, 14, 22, 22}, {4, 4, 12, 12}, {30, 30, 40, 40}, {36, 4, 46, 14}};
+  ExpectWindowsAgree(cpu, gpu, windows, "spot/directional window");
 }
 
 }  // namespace

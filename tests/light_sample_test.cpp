@@ -256,7 +256,9 @@ TEST(LightSampleTest, PointAndBackgroundLights) {
 // ---- A scene with every kind of light ----
 
 // Quad (one-sided, facing down), triangle (two-sided), sphere, point light, background, and a
-// non-emitting quad. Light order: quad 0, triangle 1, sphere 2, point 3, background 4.
+// non-emitting quad. Area lights are in shape order (triangles, quads, spheres: tagIndex), so
+// the light order is triangle 0, quad 1, sphere 2, point 3, background 4, while the primitive
+// order is floor 0, quad 1, triangle 2, sphere 3.
 void BuildMixedScene(LightScene* ls) {
   Material white;
   white.albedo = vec3(0.5f);
@@ -280,17 +282,18 @@ TEST(LightTableTest, LightsAndPowerProportionalPmf) {
   const Scene& sc = ls.scene;
   ASSERT_EQ(sc.lights.size(), 5u);
   EXPECT_EQ(sc.prims[0].light, -1);
+  const int lightOfPrim[4] = {-1, 1, 0, 2};
   for (int i = 1; i <= 3; ++i) {
-    EXPECT_EQ(sc.prims[i].light, i - 1);
-    EXPECT_EQ(sc.lights[i - 1].type, LightType::kArea);
-    EXPECT_EQ(sc.lights[i - 1].prim, uint32_t(i));
+    EXPECT_EQ(sc.prims[i].light, lightOfPrim[i]);
+    EXPECT_EQ(sc.lights[lightOfPrim[i]].type, LightType::kArea);
+    EXPECT_EQ(sc.lights[lightOfPrim[i]].prim, uint32_t(i));
   }
   EXPECT_EQ(sc.lights[3].type, LightType::kPoint);
   EXPECT_EQ(sc.lights[4].type, LightType::kBackground);
   EXPECT_EQ(sc.backgroundLight, 4);
   double pi = M_PI, r = 2.5;
-  double power[5] = {Luminance(vec3(6, 5, 4)) * 0.48 * pi,
-                     Luminance(vec3(2, 3, 4)) * double(TriangleArea(sc.desc.triangles[0])) * pi * 2,
+  double power[5] = {Luminance(vec3(2, 3, 4)) * double(TriangleArea(sc.desc.triangles[0])) * pi * 2,
+                     Luminance(vec3(6, 5, 4)) * 0.48 * pi,
                      Luminance(vec3(10.0f)) * 4 * pi * 0.09 * pi, 4 * pi * Luminance(vec3(1.0f)),
                      Luminance(vec3(0.2f, 0.3f, 0.4f)) * 4 * pi * pi * r * r};
   double total = 0;
@@ -370,20 +373,20 @@ double MixedDirectionPdf(const SceneView& v, vec3 x, vec3 w) {
   float s = glm::dot(glm::cross(dq, q.v), qn) / glm::dot(qn, qn);
   float r = glm::dot(glm::cross(q.u, dq), qn) / glm::dot(qn, qn);
   if (tq > 0 && s >= 0 && s <= 1 && r >= 0 && r <= 1)
-    pdf += LightPdf(v, 0, x, x + tq * w, glm::normalize(qn));
+    pdf += LightPdf(v, v.prims[1].light, x, x + tq * w, glm::normalize(qn));
   const Triangle& t = v.triangles[0];  // Moller-Trumbore
   vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0, pv = glm::cross(w, e2);
   float det = glm::dot(e1, pv), inv = 1.0f / det;
   vec3 tv = x - t.p0, qv = glm::cross(tv, e1);
   float b1 = glm::dot(tv, pv) * inv, b2 = glm::dot(w, qv) * inv, tt = glm::dot(e2, qv) * inv;
   if (det != 0 && b1 >= 0 && b2 >= 0 && b1 + b2 <= 1 && tt > 0)
-    pdf += LightPdf(v, 1, x, x + tt * w, glm::normalize(glm::cross(e1, e2)));
+    pdf += LightPdf(v, v.prims[2].light, x, x + tt * w, glm::normalize(glm::cross(e1, e2)));
   const Sphere& sp = v.spheres[0];
   vec3 oc = x - sp.center;
   float b = glm::dot(oc, w), c = glm::dot(oc, oc) - sp.radius * sp.radius, disc = b * b - c;
   if (disc >= 0 && -b - std::sqrt(disc) > 0) {
     vec3 p = x + (-b - std::sqrt(disc)) * w;
-    pdf += LightPdf(v, 2, x, p, (p - sp.center) / sp.radius);
+    pdf += LightPdf(v, v.prims[3].light, x, p, (p - sp.center) / sp.radius);
   }
   return pdf;
 }

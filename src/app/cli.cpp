@@ -212,6 +212,16 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
        [](CliOptions& o, ValueSource& s) {
          o.envSampling = ParseChoice<EnvSampling>(
              s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
+        }},
+      {"--bvh",
+       [](CliOptions& o, ValueSource& s) {
+         o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(
+             s, {{"binary", BvhLayout::kBinary}, {"wide", BvhLayout::kWide}, {"auto", std::nullopt}});
+       }},
+      {"--bvh-build",
+       [](CliOptions& o, ValueSource& s) {
+         o.bvhBuilder =
+             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh}});
        }},
   };
   return table;

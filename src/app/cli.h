@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "src/integrator/render_api.h"
+#include "src/scene/scene.h"
 
 namespace pt {
 
@@ -48,6 +49,8 @@ struct CliOptions {
   std::string envPath;                // --env: replaces the scene's environment
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
+  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
+  BvhBuilder bvhBuilder = BvhBuilder::kSah;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
 

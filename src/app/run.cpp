@@ -58,10 +58,10 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   return desc;
 }
 
-Scene Build(SceneDesc desc, double* bvhBuildMs) {
+Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
   Clock::time_point start = Clock::now();
   try {
-    Scene scene = BuildScene(std::move(desc));
+    Scene scene = BuildScene(std::move(desc), bvh);
     // The builder's own BVH time when it keeps one; else the whole build.
     *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
     return scene;
@@ -97,6 +97,16 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
     cut.insert(cut.end(), row, row + size_t(cropW) * 3);
   }
   return cut;
+}
+
+// --bvh auto: the wide layout, measured the faster on both backends (benchmarks/RESULTS.md:
+// GPU 1.07-1.25x per render; CPU 1.2-1.6x per traced ray).
+BvhBuildOptions ChooseBvh(const CliOptions& cli) {
+  BvhBuildOptions options;
+  options.builder = cli.bvhBuilder;
+  options.threads = cli.threads;
+  options.layout = cli.bvhLayout.value_or(BvhLayout::kWide);
+  return options;
 }
 
 // auto: CUDA when it is built and a GPU is present, else the CPU.
@@ -235,7 +245,8 @@ std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
 int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point start) {
   CheckOutputsWritable(cli);
   AppTimes times;
-  Scene scene = Build(LoadAndOverride(cli, &times.loadMs), &times.bvhBuildMs);
+  Scene scene = Build(LoadAndOverride(cli, &times.loadMs), ChooseBvh(cli),
+                      &times.bvhBuildMs);
   for (const std::string& warning : DarkSceneWarnings(scene)) Warn(warning);
   PrintEffects(scene, cli.specialize);
   std::vector<float> reference;

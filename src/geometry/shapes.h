@@ -206,6 +206,28 @@ PT_HDI bool IntersectShape(const SceneView& s, PrimRef ref, const Ray& ray,
 // rejected hit *tHit and *uv may hold the rejected values; the caller must not use them.
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
                           const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
+  // Triangles come from the packed copy in BVH order (three 16-byte loads, no PrimRef first);
+  // its tag is the PrimRef's, so the hit-test bit is known without another load.
+  if (s.packedTriangles != nullptr && s.triangleTest == 0) {
+#if PT_IS_GPU_CODE
+    const float4* q = reinterpret_cast<const float4*>(s.packedTriangles + primIndex);
+    const float4 a = __ldg(q);
+    const uint32_t tag = __float_as_uint(a.w);
+    if (ShapeType(tag >> 30) == ShapeType::kTriangle) {
+      const float4 b = __ldg(q + 1), c = __ldg(q + 2);
+      if (!IntersectTriangle(Triangle{vec3(a.x, a.y, a.z), vec3(b.x, b.y, b.z), vec3(c.x, c.y, c.z)},
+                             ray, rd, tMax, tHit, uv))
+        return false;
+      return (tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
+    }
+#else
+    const PackedTriangle& p = s.packedTriangles[primIndex];
+    if (ShapeType(p.tag >> 30) == ShapeType::kTriangle) {
+      if (!IntersectTriangle(Triangle{p.p0, p.p1, p.p2}, ray, rd, tMax, tHit, uv)) return false;
+      return (p.tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
+    }
+#endif
+  }
   PrimRef ref = s.prims[primIndex];
   if (!IntersectShape(s, ref, ray, rd, tMax, tHit, uv)) return false;
   return !ref.NeedsHitTest() || AcceptHit(s, ref, ray, *uv);

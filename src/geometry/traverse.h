@@ -1,126 +1,112 @@
-// BVH traversal: closest hit for extension rays, any hit for shadow rays. Iterative with a
-// fixed-size stack (no allocation, no recursion), children visited front to back.
+// Scene ray queries: closest hit for extension rays, any hit (occlusion) for shadow rays, over
+// either node layout (--bvh binary|wide), with the leaf callback for scene primitives.
+//
+// Building blocks for other traversals (e.g. a two-level one):
+//   Traverse<TraceMode>(BinaryBvh or WideBvh, ray, &tMax, leaf, counters)   one BVH level
+//   PrimLeaf<TraceMode>                                                    scene primitives
+// with the leaf-callback contract of traverse_binary.h.
+//
+// The closest hit does not depend on the order in which nodes are visited: of hits at exactly
+// the same distance, the primitive with the smallest PrimRef::tagIndex (the shape's identity,
+// not its BVH position) wins. So both layouts, and every builder, give the same hit.
 #pragma once
 
-#include "src/geometry/aabb.h"
-#include "src/geometry/interaction.h"
 #include "src/geometry/shapes.h"
-#include "src/scene/scene_view.h"
+#include "src/geometry/traverse_binary.h"
+#include "src/geometry/traverse_wide.h"
 
 namespace pt {
 
-// Deepest leaf BuildBvh makes (root = depth 0); a node deeper than this becomes a leaf whatever
-// its size. Traversal pushes at most one sibling per ancestor of the node it is on, so the stack
-// never holds more than kBvhMaxDepth entries. SAH trees of a few million primitives are ~30-45
-// deep; only pathological inputs (e.g. geometrically spaced primitives) reach the cap.
-constexpr int kBvhMaxDepth = 64;
-constexpr int kBvhStackSize = kBvhMaxDepth;
+// Tests s.prims[first, first + count) with IntersectPrim. kClosest keeps the nearest accepted
+// primitive (ties by tagIndex); kAny stops at the first.
+template <TraceMode kMode>
+struct PrimLeaf {
+  const SceneView& s;
+  const Ray& ray;
+  TriangleRayData triRay;
+  uint32_t prim = HitRecord::kNoHit;
+  vec2 uv = vec2(0.0f);
+  uint32_t tested = 0;
 
-namespace detail {
+  PT_HDI PrimLeaf(const SceneView& scene, const Ray& r)
+      : s(scene), ray(r), triRay(TriangleRayData::Make(r.d)) {}
 
-// One walk serves both queries; kAnyHit stops at the first accepted primitive. On return
-// *tClosest/*primClosest/*uvClosest hold the nearest hit (primClosest = kNoHit if none).
-template <bool kAnyHit>
-PT_HDI void TraverseBvh(const SceneView& s, const Ray& ray, float* tClosest, uint32_t* primClosest,
-                        vec2* uvClosest, TraversalCounters* counters) {
-  *primClosest = HitRecord::kNoHit;
-  if (s.nodeCount == 0 || s.primCount == 0) return;
-  float tMax = *tClosest;
-  const vec3 invDir(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
-  const TriangleRayData triRay = TriangleRayData::Make(ray.d);
-  uint32_t nodesVisited = 0, primsTested = 0;
-
-  // Entry distances travel with the stacked nodes so that a node farther than a hit found
-  // meanwhile is skipped without reloading it.
-  uint32_t stackNode[kBvhStackSize];
-  float stackT[kBvhStackSize];
-  int stackSize = 0;
-
-  uint32_t node = 0;
-  float tEntry;
-  bool active =
-      IntersectAabb(s.nodes[0].boundsMin, s.nodes[0].boundsMax, ray.o, invDir, tMax, &tEntry);
-  while (active) {
-    ++nodesVisited;
-    const BvhNode& n = s.nodes[node];
-    if (n.IsLeaf()) {
-      for (uint32_t i = n.leftOrFirst, end = n.leftOrFirst + n.count; i < end; ++i) {
-        ++primsTested;
-        float t;
-        vec2 uv;
-        if (IntersectPrim(s, i, ray, triRay, tMax, &t, &uv)) {
-          tMax = t;
-          *primClosest = i;
-          *uvClosest = uv;
-          if (kAnyHit) break;
-        }
+  PT_HDI bool operator()(uint32_t first, uint32_t count, float* tMax) {
+    bool found = false;
+    for (uint32_t i = first, end = first + count; i < end; ++i) {
+      ++tested;
+      float t;
+      vec2 hitUv;
+      if (kMode == TraceMode::kAny) {
+        if (!IntersectPrim(s, i, ray, triRay, *tMax, &t, &hitUv)) continue;
+        prim = i;
+        return true;
       }
-      if (kAnyHit && *primClosest != HitRecord::kNoHit) break;
-    } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior (a 0-count root is empty)
-      uint32_t left = n.leftOrFirst;
-      const BvhNode& l = s.nodes[left];
-      const BvhNode& r = s.nodes[left + 1];
-      float tl, tr;
-      bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, ray.o, invDir, tMax, &tl);
-      bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, ray.o, invDir, tMax, &tr);
-      if (hitL && hitR) {
-        bool leftFirst = tl <= tr;
-        if (stackSize < kBvhStackSize) {  // always true for BuildBvh's trees (see above)
-          stackNode[stackSize] = leftFirst ? left + 1 : left;
-          stackT[stackSize] = leftFirst ? tr : tl;
-          ++stackSize;
-        }
-        node = leftFirst ? left : left + 1;
-        continue;
-      }
-      if (hitL || hitR) {
-        node = hitL ? left : left + 1;
-        continue;
-      }
+      // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
+      float limit = prim == HitRecord::kNoHit ? *tMax : NextFloatUp(*tMax);
+      if (!IntersectPrim(s, i, ray, triRay, limit, &t, &hitUv)) continue;
+      if (!(t < *tMax) && !(s.prims[i].tagIndex < s.prims[prim].tagIndex)) continue;
+      *tMax = t;
+      prim = i;
+      uv = hitUv;
+      found = true;
     }
-    // Pop the nearest pending node that may still hold something closer than tMax.
-    active = false;
-    while (stackSize > 0) {
-      --stackSize;
-      if (stackT[stackSize] <= tMax * kAabbFarScale) {  // as IntersectAabb culls
-        node = stackNode[stackSize];
-        active = true;
-        break;
-      }
-    }
+    return found;
   }
-  *tClosest = tMax;
-  if (counters) {
-    counters->nodes += nodesVisited;
-    counters->prims += primsTested;
+};
+
+// One level over the scene's own BVH in layout L.
+template <BvhLayout L, TraceMode kMode, typename LeafFn>
+PT_HDI void TraverseScene(const SceneView& s, const Ray& ray, float* tMax, LeafFn& leaf,
+                          TraversalCounters* counters) {
+  if (s.primCount == 0) return;
+  if constexpr (L == BvhLayout::kWide) {
+    Traverse<kMode>(SceneWideBvh(s), ray, tMax, leaf, counters);
+  } else {
+    Traverse<kMode>(SceneBinaryBvh(s), ray, tMax, leaf, counters);
   }
 }
-
-}  // namespace detail
 
 // Nearest primitive with 0 < t < tMax. On a hit fills *hit (t, prim index into s.prims, uv as
 // IntersectPrim gives it) and returns true; on a miss sets hit->prim = kNoHit, hit->t = tMax,
 // hit->uv = 0. Counters (may be nullptr) are added to: nodes entered and primitives tested.
-PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
-                             TraversalCounters* counters) {
+template <BvhLayout L>
+PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
+                               TraversalCounters* counters) {
+  PrimLeaf<TraceMode::kClosest> leaf(s, ray);
   float t = tMax;
-  uint32_t prim;
-  vec2 uv(0.0f);
-  detail::TraverseBvh<false>(s, ray, &t, &prim, &uv, counters);
+  TraverseScene<L, TraceMode::kClosest>(s, ray, &t, leaf, counters);
+  if (counters) counters->prims += leaf.tested;
   hit->t = t;
-  hit->prim = prim;
-  hit->uv = uv;
-  return prim != HitRecord::kNoHit;
+  hit->prim = leaf.prim;
+  hit->uv = leaf.uv;
+  return leaf.prim != HitRecord::kNoHit;
 }
 
 // Whether any primitive has 0 < t < tMax (shadow rays); stops at the first one found.
+template <BvhLayout L>
+PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
+                           TraversalCounters* counters) {
+  PrimLeaf<TraceMode::kAny> leaf(s, ray);
+  float t = tMax;
+  TraverseScene<L, TraceMode::kAny>(s, ray, &t, leaf, counters);
+  if (counters) counters->prims += leaf.tested;
+  return leaf.prim != HitRecord::kNoHit;
+}
+
+// The same in the layout the view names (a run-time choice; stages instantiate per layout).
+PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
+                             TraversalCounters* counters) {
+  return s.bvhLayout == BvhLayout::kWide
+             ? IntersectClosestIn<BvhLayout::kWide>(s, ray, tMax, hit, counters)
+             : IntersectClosestIn<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
+}
+
 PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
-  float t = tMax;
-  uint32_t prim;
-  vec2 uv(0.0f);
-  detail::TraverseBvh<true>(s, ray, &t, &prim, &uv, counters);
-  return prim != HitRecord::kNoHit;
+  return s.bvhLayout == BvhLayout::kWide
+             ? IntersectAnyIn<BvhLayout::kWide>(s, ray, tMax, counters)
+             : IntersectAnyIn<BvhLayout::kBinary>(s, ray, tMax, counters);
 }
 
 }  // namespace pt

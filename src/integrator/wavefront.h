@@ -179,13 +179,19 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its material as the sort key.
   void IntersectClosest(uint32_t n) {
+    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) IntersectLayout<BvhLayout::kWide>(n);
+    else IntersectLayout<BvhLayout::kBinary>(n);
+  }
+
+  template <BvhLayout L>
+  void IntersectLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     uint32_t* keys = sort_ ? sortKeys_.Data() : nullptr;
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
+      IntersectPath<L>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
     });
   }
 
@@ -225,12 +231,18 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(uint32_t n) {
+    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) ShadowLayout<BvhLayout::kWide>(n);
+    else ShadowLayout<BvhLayout::kBinary>(n);
+  }
+
+  template <BvhLayout L>
+  void ShadowLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
-      TraceShadowRay(scene, ps, queue[i], counters);
+      TraceShadowRay<L>(scene, ps, queue[i], counters);
     });
   }
 

@@ -6,7 +6,9 @@
 #include <filesystem>
 
 #include "src/io/gltf_loader.h"
+#include "src/io/image_io.h"
 #include "src/io/obj_loader.h"
+#include "src/materials/emission.h"
 #include "src/io/scene_json.h"
 #include "src/scene/auto_camera.h"
 #include "src/scene/transform.h"
@@ -32,7 +34,7 @@ bool AnyEmitter(const SceneDesc& scene) {
   }
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    if (used[i] && m.type == MaterialType::kEmissive && !IsBlack(m.radiance)) return true;
+    if (used[i] && MaterialEmits(m)) return true;
   }
   return false;
 }
@@ -49,13 +51,6 @@ RenderSettings ModelRenderSettings(float aspect) {
 }
 
 }  // namespace
-
-std::string LowerExtension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 bool IsModelFile(const std::string& path) {
   std::string ext = LowerExtension(path);

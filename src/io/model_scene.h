@@ -25,8 +25,6 @@ constexpr float kDefaultEnvironmentRadiance = 1.0f;
 
 // True for the extensions LoadScene reads as a model rather than as a JSON scene.
 bool IsModelFile(const std::string& path);
-// The extension in lower case (".glb").
-std::string LowerExtension(const std::string& path);
 
 // Loads a model file's triangles (and materials, unless the sink overrides them) through the
 // sink; returns the glTF file's cameras, lights and ignored parts (empty for OBJ). Throws

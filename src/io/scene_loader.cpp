@@ -11,6 +11,7 @@
 
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
+#include "src/io/image_io.h"
 #include "src/io/model_scene.h"
 #include "src/io/scene_json.h"
 #include "src/scene/transform.h"

@@ -10,12 +10,6 @@ namespace pt {
 
 namespace {
 
-// Whether a material emits: emissive, or glTF with an emissive factor.
-bool Emits(const Material& m) {
-  return (m.type == MaterialType::kEmissive || m.type == MaterialType::kGltfPbr) &&
-         !IsBlack(m.radiance);
-}
-
 // Mean luminance of a glTF emissive texture over a primitive (1 without one), which scales
 // the light's power and so the probability of choosing it: 16 stratified points, each read at
 // the mip level whose footprint is a sixteenth of the primitive, so the mean covers its area.
@@ -132,22 +126,38 @@ void BuildLightTable(Scene& scene) {
   scene.lights.clear();
   scene.backgroundLight = -1;
   SceneView view = HostSceneView(scene);
-  std::vector<double> emissionScale;  // per area light, for its power
+  // Area lights in the order of the shapes (tagIndex), not of the BVH's leaves, so the table
+  // and every light choice are the same whatever the layout or builder; a shape that spatial
+  // splits put in several leaves is one light, named by every copy.
+  std::vector<uint32_t> emitters;
+  std::vector<double> primScale(scene.prims.size(), 0.0);
   for (size_t i = 0; i < scene.prims.size(); ++i) {
     PrimRef& prim = scene.prims[i];
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
-    if (!Emits(m)) continue;
-    double scale = EmissionScale(view, prim, PrimArea(desc, prim));
-    if (!(scale > 0.0)) continue;  // dark where sampled: left to BSDF sampling
+    if (!MaterialEmits(m)) continue;
+    primScale[i] = EmissionScale(view, prim, PrimArea(desc, prim));
+    if (primScale[i] > 0.0) emitters.push_back(uint32_t(i));  // dark ones: BSDF sampling only
+  }
+  std::stable_sort(emitters.begin(), emitters.end(), [&](uint32_t a, uint32_t b) {
+    return scene.prims[a].tagIndex < scene.prims[b].tagIndex;
+  });
+  std::vector<double> emissionScale;  // per area light, for its power
+  for (size_t k = 0; k < emitters.size(); ++k) {
+    PrimRef& prim = scene.prims[emitters[k]];
+    if (k > 0 && prim.tagIndex == scene.prims[emitters[k - 1]].tagIndex) {
+      prim.light = scene.prims[emitters[k - 1]].light;
+      continue;
+    }
+    const Material& m = desc.materials[prim.material];
     Light light;
     light.type = LightType::kArea;
-    light.prim = uint32_t(i);
+    light.prim = emitters[k];
     light.radiance = m.radiance;
     light.twoSided = m.twoSided;
     prim.light = int32_t(scene.lights.size());
     scene.lights.push_back(light);
-    emissionScale.push_back(scale);
+    emissionScale.push_back(primScale[emitters[k]]);
   }
   for (const PointLightDesc& point : desc.pointLights) {
     Light light;

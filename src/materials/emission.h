@@ -11,6 +11,13 @@
 
 namespace pt {
 
+// Whether a material emits: emissive, or glTF with an emissive factor (its texture, if any,
+// only modulates that factor).
+PT_HDI bool MaterialEmits(const Material& m) {
+  return (m.type == MaterialType::kEmissive || m.type == MaterialType::kGltfPbr) &&
+         !IsBlack(m.radiance);
+}
+
 // param: the point's shape parameters (triangle (b1, b2), quad (s, t)); p, n its position and
 // unit geometric normal.
 PT_HDI vec3 AreaLightRadiance(const SceneView& s, const Light& light, vec2 param, vec3 p,

@@ -2,10 +2,12 @@
 // order, the light table, and the camera basis.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "src/geometry/aabb.h"
 #include "src/geometry/bvh.h"
+#include "src/geometry/bvh_wide.h"
 #include "src/geometry/shapes.h"
 #include "src/lights/light_table.h"
 #include "src/scene/auto_camera.h"
@@ -51,6 +53,112 @@ Camera MakeCamera(const CameraDesc& desc, int width, int height) {
   return c;
 }
 
+namespace {
+
+// Bounds of the part of a convex polygon inside `box` (Sutherland-Hodgman in double, rounded
+// outwards to float and clamped to the box): what spatial splits need.
+Aabb ClipPolygon(const glm::dvec3* in, int n, const Aabb& box) {
+  glm::dvec3 a[16], b[16];
+  for (int i = 0; i < n; ++i) a[i] = in[i];
+  for (int plane = 0; plane < 6 && n > 0; ++plane) {
+    int axis = plane % 3;
+    bool upper = plane >= 3;
+    double bound = upper ? box.hi[axis] : box.lo[axis];
+    auto inside = [&](const glm::dvec3& p) { return upper ? p[axis] <= bound : p[axis] >= bound; };
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const glm::dvec3& p = a[i];
+      const glm::dvec3& q = a[(i + 1) % n];
+      if (inside(p)) b[m++] = p;
+      if (inside(p) != inside(q) && m < 15) {
+        double t = (bound - p[axis]) / (q[axis] - p[axis]);
+        glm::dvec3 x = p + t * (q - p);
+        x[axis] = bound;
+        b[m++] = x;
+      }
+    }
+    n = m;
+    for (int i = 0; i < n; ++i) a[i] = b[i];
+  }
+  Aabb out;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      float lo = std::nextafter(float(a[i][k]), -kInfinity), hi = std::nextafter(float(a[i][k]), kInfinity);
+      out.lo[k] = std::min(out.lo[k], lo);
+      out.hi[k] = std::max(out.hi[k], hi);
+    }
+  }
+  if (out.IsEmpty()) return out;
+  return Aabb{glm::max(out.lo, box.lo), glm::min(out.hi, box.hi)};
+}
+
+PrimClipper MakeClipper(const SceneDesc& d, const std::vector<PrimRef>& prims,
+                        const std::vector<Aabb>& bounds) {
+  return [&d, &prims, &bounds](uint32_t i, const Aabb& box) {
+    const PrimRef& ref = prims[i];
+    if (ref.Type() == ShapeType::kTriangle) {
+      const Triangle& t = d.triangles[ref.Index()];
+      glm::dvec3 v[3] = {glm::dvec3(t.p0), glm::dvec3(t.p1), glm::dvec3(t.p2)};
+      return ClipPolygon(v, 3, box);
+    }
+    // Quads and spheres: their padded bounds cut by the box (valid, if weaker).
+    const Aabb& b = bounds[i];
+    Aabb out{glm::max(b.lo, box.lo), glm::min(b.hi, box.hi)};
+    return out.IsEmpty() ? Aabb() : out;
+  };
+}
+
+}  // namespace
+
+const char* BvhBuilderName(BvhBuilder b) { return b == BvhBuilder::kSbvh ? "sbvh" : "sah"; }
+const char* BvhLayoutName(BvhLayout l) { return l == BvhLayout::kWide ? "wide" : "binary"; }
+
+namespace {
+
+// The BVH over `bounds` in the layout asked for; the primitive order of its leaves.
+std::vector<uint32_t> BuildSceneBvh(Scene& scene, const std::vector<PrimRef>& unordered,
+                                    const std::vector<Aabb>& bounds,
+                                    const BvhBuildOptions& options) {
+  PrimClipper clip;
+  if (options.builder == BvhBuilder::kSbvh) clip = MakeClipper(scene.desc, unordered, bounds);
+  scene.bvhLayout = options.layout;
+  if (options.layout == BvhLayout::kWide) {
+    // A full binary tree: the collapse chooses the leaves (of at most 3 primitives) itself.
+    BvhBuildOptions binary = options;
+    binary.maxLeafSize = 1;
+    BvhBuildResult bvh = BuildBvh(bounds, binary, kBvhMaxDepth, clip);
+    WideBvhResult wide = CollapseToWide(bvh, bounds);
+    scene.wideNodes = std::move(wide.nodes);
+    scene.bvhSahCost = wide.sahCost;
+    scene.bvhDepth = wide.maxDepth;
+    return std::move(wide.primOrder);
+  }
+  BvhBuildResult bvh = BuildBvh(bounds, options, kBvhMaxDepth, clip);
+  scene.nodes = std::move(bvh.nodes);
+  scene.bvhSahCost = BinarySahCost(scene.nodes);
+  scene.bvhDepth = bvh.maxDepth;
+  return std::move(bvh.primOrder);
+}
+
+void PackTriangles(Scene& scene) {
+  const SceneDesc& d = scene.desc;
+  scene.packedTriangles.resize(scene.prims.size());
+  for (size_t i = 0; i < scene.prims.size(); ++i) {
+    const PrimRef& ref = scene.prims[i];
+    PackedTriangle& p = scene.packedTriangles[i];
+    p = PackedTriangle{};
+    p.tag = ref.tagIndex;
+    p.material = ref.material;
+    if (ref.Type() != ShapeType::kTriangle) continue;
+    const Triangle& t = d.triangles[ref.Index()];
+    p.p0 = t.p0;
+    p.p1 = t.p1;
+    p.p2 = t.p2;
+  }
+}
+
+}  // namespace
+
 Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
   Scene scene;
   scene.desc = std::move(desc);
@@ -69,12 +177,12 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
   scene.camera = MakeCamera(d.camera, d.render.width, d.render.height);
 
   auto t0 = std::chrono::steady_clock::now();
-  BvhBuildResult bvh = BuildBvh(bounds, options);
+  std::vector<uint32_t> order = BuildSceneBvh(scene, unordered, bounds, options);
   scene.bvhBuildMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  scene.nodes = std::move(bvh.nodes);
-  scene.prims.reserve(unordered.size());
-  for (uint32_t i : bvh.primOrder) scene.prims.push_back(unordered[i]);
+  scene.prims.reserve(order.size());
+  for (uint32_t i : order) scene.prims.push_back(unordered[i]);
+  PackTriangles(scene);
 
   if (!bounds.empty()) {
     scene.sceneCenter = 0.5f * (world.lo + world.hi);
@@ -91,7 +199,8 @@ SceneView HostSceneView(const Scene& scene) {
 #define PT_SCENE_ARRAY_HOST(Type, name, host) v.name = (host).empty() ? nullptr : (host).data();
   PT_SCENE_ARRAYS(PT_SCENE_ARRAY_HOST)
 #undef PT_SCENE_ARRAY_HOST
-  v.nodeCount = uint32_t(scene.nodes.size());
+  v.nodeCount = scene.NodeCount();
+  v.bvhLayout = scene.bvhLayout;
   v.primCount = uint32_t(scene.prims.size());
   v.materialCount = uint32_t(d.materials.size());
   v.lightCount = uint32_t(scene.lights.size());

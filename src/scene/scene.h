@@ -130,18 +130,32 @@ struct SceneDesc {
   int skippedDegenerateTriangles = 0;
 };
 
-struct BvhBuildOptions {
-  int maxLeafSize = 4;
-  int binCount = 16;
+enum class BvhBuilder : uint32_t {
+  kSah = 0,   // binned SAH over centroids (Wald 2007): the default
+  kSbvh = 1,  // binned SAH plus spatial splits (Stich, Friedrich, Dietrich 2009)
 };
+
+struct BvhBuildOptions {
+  int maxLeafSize = 4;  // binary layout (the wide layout's leaves hold at most 3)
+  int binCount = 16;
+  BvhBuilder builder = BvhBuilder::kSah;
+  BvhLayout layout = BvhLayout::kBinary;
+  int threads = 0;  // build threads; 0 = all cores
+};
+
+const char* BvhBuilderName(BvhBuilder b);
+const char* BvhLayoutName(BvhLayout l);
 
 // The scene ready to render: BVH built, primitives reordered, lights tabulated.
 struct Scene {
   SceneDesc desc;
   Camera camera;
 
-  std::vector<BvhNode> nodes;
-  std::vector<PrimRef> prims;  // BVH leaf order
+  BvhLayout bvhLayout = BvhLayout::kBinary;
+  std::vector<BvhNode> nodes;          // binary layout (empty when wide)
+  std::vector<WideBvhNode> wideNodes;  // wide layout (empty when binary)
+  std::vector<PrimRef> prims;  // BVH leaf order (with spatial splits a shape may appear twice)
+  std::vector<PackedTriangle> packedTriangles;  // same order as prims
   std::vector<Light> lights;
   std::vector<float> lightPmf, lightCdf;
   std::vector<uint32_t> distantLights;        // directional lights with a cone
@@ -150,7 +164,16 @@ struct Scene {
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;
-  double bvhBuildMs = 0.0;
+  double bvhBuildMs = 0.0;  // build, collapse to the wide layout included
+  double bvhSahCost = 0.0;  // of the layout in use (BinarySahCost / WideBvhResult::sahCost)
+  int bvhDepth = 0;
+
+  uint32_t NodeCount() const {
+    return uint32_t(bvhLayout == BvhLayout::kWide ? wideNodes.size() : nodes.size());
+  }
+  size_t NodeBytes() const {
+    return nodes.size() * sizeof(BvhNode) + wideNodes.size() * sizeof(WideBvhNode);
+  }
 
   size_t TriangleCount() const { return desc.triangles.size(); }
   size_t PrimitiveCount() const { return prims.size(); }

@@ -203,6 +203,42 @@ struct BvhNode {
   PT_HDI bool IsLeaf() const { return count > 0; }
 };
 
+// Which node layout traversal walks (--bvh): both index the same kind of primitive array.
+enum class BvhLayout : uint32_t { kBinary = 0, kWide = 1 };
+
+// 80 bytes, read as five 16-byte loads: an 8-wide node with its children's boxes quantised to
+// 8 bits per plane on a grid of power-of-two steps (Ylitie, Karras, Laine 2017, "Efficient
+// incoherent ray traversal on GPUs through compressed wide BVHs"). A child box is
+// [origin + qlo * scale, origin + qhi * scale] per axis, scale = 2^(exponent - 127), always
+// containing the exact box (rounded outwards). Slots are ordered for the ray's octant at
+// build time (see bvh_wide.cpp); interior children are stored consecutively from childBase in
+// slot order, and the primitives of the leaf children consecutively from primBase.
+struct alignas(16) WideBvhNode {
+  vec3 origin;
+  uint8_t exponent[3];
+  uint8_t innerMask;  // bit s: slot s holds an interior child
+  uint32_t childBase;
+  uint32_t primBase;
+  // Per slot: 0 empty; interior 0b001'11sss (24 + slot s); leaf with n = 1..3 primitives at
+  // primBase + k: (2^n - 1) << 5 | k, k < 24. Traversal turns a hit slot into mask bits
+  // (meta >> 5) << (meta & 31): primitive bits 0-23, interior bits 24-31.
+  uint8_t meta[8];
+  uint8_t qlo[3][8];  // [axis][slot]
+  uint8_t qhi[3][8];
+};
+
+// A primitive's triangle in BVH order, padded for three 16-byte loads: what traversal reads
+// instead of PrimRef + Triangle (two dependent loads of 12 and 36 bytes). `tag` is the
+// PrimRef's tagIndex (the shape type says whether p0..p2 hold a triangle).
+struct alignas(16) PackedTriangle {
+  vec3 p0;
+  uint32_t tag;
+  vec3 p1;
+  uint32_t material;
+  vec3 p2;
+  uint32_t pad;
+};
+
 // ---- Camera, resolved to a basis ----
 struct Camera {
   vec3 position;

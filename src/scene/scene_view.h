@@ -12,8 +12,10 @@ namespace pt {
 // array is one line here (and its vector in the Scene). An empty array is a null pointer.
 #define PT_SCENE_ARRAYS(X)                                                                   \
   /* Geometry, in BVH order where it matters. */                                            \
-  X(BvhNode, nodes, s.nodes)                                                                \
+  X(BvhNode, nodes, s.nodes)                  /* binary layout (empty when wide) */        \
+  X(WideBvhNode, wideNodes, s.wideNodes)      /* wide layout (empty when binary) */        \
   X(PrimRef, prims, s.prims)                                                                \
+  X(PackedTriangle, packedTriangles, s.packedTriangles) /* per prim, BVH order */           \
   X(Triangle, triangles, s.desc.triangles)                                                  \
   X(TriangleNormals, triangleNormals, s.desc.triangleNormals)                               \
   X(TriangleUvs, triangleUvs, s.desc.triangleUvs) /* null when no mesh has UVs */           \
@@ -41,8 +43,9 @@ struct SceneView {
   PT_SCENE_ARRAYS(PT_SCENE_VIEW_FIELD)
 #undef PT_SCENE_VIEW_FIELD
 
-  uint32_t nodeCount = 0;
+  uint32_t nodeCount = 0;  // of the layout in use
   uint32_t primCount = 0;
+  BvhLayout bvhLayout = BvhLayout::kBinary;
   uint32_t triangleTest = 0;  // 0: watertight (Woop et al.); 1: Moller-Trumbore (a study)
   uint32_t materialCount = 0;
   uint32_t lightCount = 0;

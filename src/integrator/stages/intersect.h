@@ -13,6 +13,9 @@ PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const HitRecord& hit) {
   return hit.prim == HitRecord::kNoHit ? scene.materialCount : scene.prims[hit.prim].material;
 }
 
+// L is the scene's BVH layout (scene.bvhLayout): one kernel per layout, so neither pays for the
+// other's registers.
+template <BvhLayout L>
 PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t* sortKey,
                           Counter* counters) {
   if (!IsAlive(ps.flags[id])) {  // only without compaction do dead paths stay queued
@@ -25,7 +28,7 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   hit.t = kInfinity;
   hit.uv = vec2(0.0f);
   TraversalCounters tc;
-  IntersectClosest(scene, ray, kInfinity, &hit, &tc);
+  IntersectClosestIn<L>(scene, ray, kInfinity, &hit, &tc);
   ps.hit[id] = hit;
   if (sortKey) *sortKey = MaterialSortKey(scene, hit);
   if (counters) {

@@ -1,0 +1,360 @@
+// Binary BVH -> 8-wide compressed BVH (Ylitie, Karras, Laine 2017, section 3).
+#include "src/geometry/bvh_wide.h"
+
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace pt {
+namespace {
+
+constexpr int kWidth = 8;
+constexpr uint32_t kMaxLeafPrims = 3;
+// The collapse's cost model (the paper's): one node visit 1, one primitive test 0.3.
+constexpr float kNodeCost = 1.0f;
+constexpr float kPrimCost = 0.3f;
+
+float AreaF(const Aabb& b) {
+  if (b.IsEmpty()) return 0.0f;
+  vec3 d = b.hi - b.lo;
+  return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+Aabb NodeBox(const BvhNode& n) { return Aabb{n.boundsMin, n.boundsMax}; }
+
+Aabb Intersect(const Aabb& a, const Aabb& b) {
+  return Aabb{glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)};
+}
+
+// A copy of the binary tree whose leaves hold at most kMaxLeafPrims primitives: bigger leaves
+// (the depth cap, or a builder asked for bigger leaves) become balanced subtrees. Leaf ranges
+// still index the binary primOrder.
+class LeafSplitter {
+ public:
+  LeafSplitter(const BvhBuildResult& b, const std::vector<Aabb>& bounds) : b_(b), bounds_(bounds) {}
+  std::vector<BvhNode> Run() {
+    out_.reserve(b_.nodes.size() + b_.nodes.size() / 8);
+    out_.emplace_back();
+    Copy(0, 0);
+    return std::move(out_);
+  }
+
+ private:
+  void Copy(uint32_t src, uint32_t dst) {
+    const BvhNode n = b_.nodes[src];
+    if (n.IsLeaf()) {
+      if (n.count <= kMaxLeafPrims) out_[dst] = n;
+      else SplitRange(n.leftOrFirst, n.count, NodeBox(n), dst);
+      return;
+    }
+    uint32_t c = uint32_t(out_.size());
+    out_.resize(c + 2);
+    out_[dst] = n;
+    out_[dst].leftOrFirst = c;
+    Copy(n.leftOrFirst, c);
+    Copy(n.leftOrFirst + 1, c + 1);
+  }
+  // With spatial splits a reference's bounds exceed the part the leaf holds: clip to the leaf.
+  void SplitRange(uint32_t first, uint32_t count, const Aabb& leafBox, uint32_t dst) {
+    Aabb box;
+    for (uint32_t i = first; i < first + count; ++i) box.Extend(bounds_[b_.primOrder[i]]);
+    box = Intersect(box, leafBox);
+    out_[dst].boundsMin = box.lo;
+    out_[dst].boundsMax = box.hi;
+    if (count <= kMaxLeafPrims) {
+      out_[dst].leftOrFirst = first;
+      out_[dst].count = count;
+      return;
+    }
+    uint32_t c = uint32_t(out_.size());
+    out_.resize(c + 2);
+    out_[dst].leftOrFirst = c;
+    out_[dst].count = 0;
+    uint32_t half = count / 2;
+    SplitRange(first, half, leafBox, c);
+    SplitRange(first + half, count - half, leafBox, c + 1);
+  }
+
+  const BvhBuildResult& b_;
+  const std::vector<Aabb>& bounds_;
+  std::vector<BvhNode> out_;
+};
+
+// ---- Conservative quantisation ----
+
+// x - origin as an unevaluated sum d + err of doubles (Knuth's TwoSum), exact.
+void ExactDifference(float x, float origin, double* d, double* err) {
+  double a = x, b = -double(origin);
+  double s = a + b;
+  double bb = s - a;
+  *d = s;
+  *err = (a - (s - bb)) + (b - bb);
+}
+
+// Largest q >= 0 with origin + q * scale <= x in real arithmetic (origin <= x).
+int QuantizeDown(float x, float origin, double scale) {
+  double d, err;
+  ExactDifference(x, origin, &d, &err);
+  double q = std::floor(d / scale);  // division by a power of two: exact
+  if (err < 0.0 && q * scale == d) q -= 1.0;
+  return q < 0.0 ? 0 : int(std::min(q, 255.0));
+}
+
+// Smallest q with origin + q * scale >= x in real arithmetic; may exceed 255.
+int QuantizeUp(float x, float origin, double scale) {
+  double d, err;
+  ExactDifference(x, origin, &d, &err);
+  double q = std::ceil(d / scale);
+  if (err > 0.0 && q * scale == d) q += 1.0;
+  return q < 0.0 ? 0 : int(std::min(q, 1024.0));
+}
+
+float Finite(float v) { return std::isfinite(v) ? v : (v > 0.0f ? FLT_MAX : -FLT_MAX); }
+
+// Fills origin, exponents and the boxes of the used slots of `node`; unused slots get an
+// inverted box (and meta 0, set by the caller), which no ray hits.
+void Quantize(const Aabb boxes[kWidth], const bool used[kWidth], WideBvhNode* node) {
+  Aabb all;
+  Aabb fin[kWidth];
+  for (int i = 0; i < kWidth; ++i) {
+    if (!used[i]) continue;
+    fin[i] = Aabb{vec3(Finite(boxes[i].lo.x), Finite(boxes[i].lo.y), Finite(boxes[i].lo.z)),
+                  vec3(Finite(boxes[i].hi.x), Finite(boxes[i].hi.y), Finite(boxes[i].hi.z))};
+    all.Extend(fin[i]);
+  }
+  node->origin = all.lo;
+  for (int axis = 0; axis < 3; ++axis) {
+    float lo = all.lo[axis], hi = all.hi[axis];
+    double extent = double(hi) - double(lo);
+    int k = extent > 0.0 ? int(std::ceil(std::log2(extent / 255.0))) : -126;
+    k = std::clamp(k, -126, 127);
+    for (;; ++k) {  // rounding of log2 may leave the top bound one step out of reach
+      double scale = std::ldexp(1.0, k);
+      bool fits = true;
+      for (int i = 0; i < kWidth && fits; ++i)
+        fits = !used[i] || QuantizeUp(fin[i].hi[axis], lo, scale) <= 255;
+      if (fits || k == 127) break;
+    }
+    double scale = std::ldexp(1.0, k);
+    node->exponent[axis] = uint8_t(k + 127);
+    for (int i = 0; i < kWidth; ++i) {
+      node->qlo[axis][i] = used[i] ? uint8_t(QuantizeDown(fin[i].lo[axis], lo, scale)) : 255;
+      node->qhi[axis][i] = used[i] ? uint8_t(std::min(QuantizeUp(fin[i].hi[axis], lo, scale), 255)) : 0;
+    }
+  }
+}
+
+// ---- The collapse ----
+
+class Collapser {
+ public:
+  Collapser(const BvhBuildResult& binary, std::vector<BvhNode> nodes, WideBvhResult* out)
+      : binary_(binary), nodes_(std::move(nodes)), out_(out) {}
+
+  void Run() {
+    ComputeCosts();
+    out_->nodes.reserve(nodes_.size() / 3 + 1);
+    out_->primOrder.reserve(binary_.primOrder.size());
+    out_->nodes.emplace_back();
+    std::vector<uint32_t> children;
+    if (nodes_[0].IsLeaf()) children.push_back(0);  // a root leaf: one leaf slot
+    else Gather(0, 0, children);
+    float rootArea = AreaF(NodeBox(nodes_[0]));
+    sah_ = 0.0;
+    Emit(0, children, 0);
+    out_->sahCost = rootArea > 0.0f ? sah_ / rootArea : 0.0;
+  }
+
+ private:
+  float& Cost(uint32_t n, int slots) { return cost_[size_t(n) * kWidth + slots - 1]; }
+  int8_t& Choice(uint32_t n, int slots) { return choice_[size_t(n) * kWidth + slots - 1]; }
+
+  void ComputeCosts();
+  // Appends the binary nodes that become the slots when `n`'s children share the node's 8
+  // slots (slotsFor = 0: as the DP's best internal split of n), or n spread over `slotsFor`.
+  void Gather(uint32_t n, int slotsFor, std::vector<uint32_t>& out);
+  void Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, int depth);
+  void AssignSlots(const std::vector<uint32_t>& children, int slotOf[kWidth]);
+  void LeafPrims(uint32_t n, std::vector<uint32_t>& out) {
+    const BvhNode& b = nodes_[n];
+    if (b.IsLeaf()) {
+      for (uint32_t i = 0; i < b.count; ++i) out.push_back(binary_.primOrder[b.leftOrFirst + i]);
+      return;
+    }
+    LeafPrims(b.leftOrFirst, out);
+    LeafPrims(b.leftOrFirst + 1, out);
+  }
+
+  const BvhBuildResult& binary_;
+  std::vector<BvhNode> nodes_;
+  WideBvhResult* out_;
+  std::vector<float> cost_;     // [node][slots - 1]: best cost of the subtree over that many slots
+  std::vector<int8_t> choice_;  // 0: one slot; -1: as with one slot fewer; k: k slots go left
+  std::vector<int8_t> split8_;  // k of the best distribution of the 8 slots over the children
+  std::vector<uint8_t> asLeaf_;  // one slot: a leaf (1) or a node (0)
+  std::vector<uint32_t> primCount_;
+  double sah_ = 0.0;
+};
+
+void Collapser::ComputeCosts() {
+  size_t n = nodes_.size();
+  cost_.assign(n * kWidth, 0.0f);
+  choice_.assign(n * kWidth, 0);
+  split8_.assign(n, 0);
+  asLeaf_.assign(n, 0);
+  primCount_.assign(n, 0);
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (size_t idx = n; idx-- > 0;) {  // children always follow their parent
+    uint32_t i = uint32_t(idx);
+    const BvhNode& node = nodes_[i];
+    float area = AreaF(NodeBox(node));
+    if (node.IsLeaf() || node.leftOrFirst == 0) {
+      primCount_[i] = node.count;
+      float leaf = area * kPrimCost * float(node.count);
+      for (int s = 1; s <= kWidth; ++s) {
+        Cost(i, s) = leaf;
+        Choice(i, s) = s == 1 ? 0 : -1;
+      }
+      asLeaf_[i] = 1;
+      continue;
+    }
+    uint32_t l = node.leftOrFirst, r = l + 1;
+    primCount_[i] = primCount_[l] + primCount_[r];
+    float dist[kWidth + 1];
+    int8_t arg[kWidth + 1];
+    for (int j = 2; j <= kWidth; ++j) {
+      dist[j] = kInf;
+      arg[j] = 1;
+      for (int k = 1; k < j; ++k) {
+        float c = Cost(l, k) + Cost(r, j - k);
+        if (c < dist[j]) dist[j] = c, arg[j] = int8_t(k);
+      }
+    }
+    float leaf = primCount_[i] <= kMaxLeafPrims ? area * kPrimCost * float(primCount_[i]) : kInf;
+    float internal = dist[kWidth] + area * kNodeCost;
+    split8_[i] = arg[kWidth];
+    asLeaf_[i] = leaf <= internal ? 1 : 0;
+    Cost(i, 1) = std::min(leaf, internal);
+    Choice(i, 1) = 0;
+    for (int s = 2; s <= kWidth; ++s) {
+      bool distribute = dist[s] < Cost(i, s - 1);
+      Cost(i, s) = distribute ? dist[s] : Cost(i, s - 1);
+      Choice(i, s) = distribute ? arg[s] : -1;
+    }
+  }
+}
+
+void Collapser::Gather(uint32_t n, int slots, std::vector<uint32_t>& out) {
+  const BvhNode& node = nodes_[n];
+  int left;
+  if (slots == 0) {
+    left = split8_[n];
+    slots = kWidth;
+  } else {
+    while (Choice(n, slots) == -1) --slots;
+    if (Choice(n, slots) == 0) {
+      out.push_back(n);
+      return;
+    }
+    left = Choice(n, slots);
+  }
+  Gather(node.leftOrFirst, left, out);
+  Gather(node.leftOrFirst + 1, slots - left, out);
+}
+
+// Greedy matching of children to slots: slot s is the child met first by rays whose
+// direction has the signs of octant s (bit a set: negative along axis a), i.e. the smallest
+// centroid projection on that octant's diagonal (the paper's cost table, solved greedily).
+void Collapser::AssignSlots(const std::vector<uint32_t>& children, int slotOf[kWidth]) {
+  int count = int(children.size());
+  Aabb parent;
+  vec3 centroid[kWidth];
+  for (int c = 0; c < count; ++c) {
+    Aabb box = NodeBox(nodes_[children[c]]);
+    centroid[c] = box.Centroid();
+    parent.Extend(box);
+  }
+  float cost[kWidth][kWidth];
+  for (int c = 0; c < count; ++c) {
+    vec3 rel = centroid[c] - parent.Centroid();
+    for (int s = 0; s < kWidth; ++s) {
+      vec3 dir((s & 1) ? -1.0f : 1.0f, (s & 2) ? -1.0f : 1.0f, (s & 4) ? -1.0f : 1.0f);
+      cost[c][s] = glm::dot(rel, dir);
+    }
+  }
+  bool slotUsed[kWidth] = {};
+  for (int c = 0; c < count; ++c) slotOf[c] = -1;
+  for (int round = 0; round < count; ++round) {
+    int bc = -1, bs = -1;
+    for (int c = 0; c < count; ++c) {
+      if (slotOf[c] >= 0) continue;
+      for (int s = 0; s < kWidth; ++s) {
+        if (!slotUsed[s] && (bc < 0 || cost[c][s] < cost[bc][bs])) bc = c, bs = s;
+      }
+    }
+    slotOf[bc] = bs;
+    slotUsed[bs] = true;
+  }
+}
+
+void Collapser::Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, int depth) {
+  if (depth >= kWideStackSize) throw std::logic_error("wide BVH deeper than its stack");
+  out_->maxDepth = std::max(out_->maxDepth, depth);
+  int slotOf[kWidth];
+  AssignSlots(children, slotOf);
+  int childAt[kWidth];  // slot -> index into children, or -1
+  for (int s = 0; s < kWidth; ++s) childAt[s] = -1;
+  for (int c = 0; c < int(children.size()); ++c) childAt[slotOf[c]] = c;
+
+  WideBvhNode node{};
+  node.childBase = uint32_t(out_->nodes.size());
+  node.primBase = uint32_t(out_->primOrder.size());
+  Aabb boxes[kWidth], all;
+  bool used[kWidth];
+  uint32_t interior[kWidth];
+  int interiorCount = 0;
+  for (int s = 0; s < kWidth; ++s) {
+    used[s] = childAt[s] >= 0;
+    if (!used[s]) continue;
+    uint32_t b = children[childAt[s]];
+    boxes[s] = NodeBox(nodes_[b]);
+    all.Extend(boxes[s]);
+    if (asLeaf_[b]) {  // the subtree's primitives (at most 3) at primBase + offset (< 24)
+      uint32_t offset = uint32_t(out_->primOrder.size()) - node.primBase;
+      size_t before = out_->primOrder.size();
+      LeafPrims(b, out_->primOrder);
+      uint32_t n = uint32_t(out_->primOrder.size() - before);
+      node.meta[s] = uint8_t((((1u << n) - 1u) << 5) | offset);
+      sah_ += double(AreaF(boxes[s])) * kPrimCost * n;
+    } else {
+      node.innerMask |= uint8_t(1u << s);
+      node.meta[s] = uint8_t((1u << 5) | (24u + uint32_t(s)));
+      interior[interiorCount++] = b;
+    }
+  }
+  sah_ += double(AreaF(all)) * kNodeCost;
+  Quantize(boxes, used, &node);
+  out_->nodes.resize(out_->nodes.size() + interiorCount);
+  out_->nodes[wideIndex] = node;
+  // Interior children fill the block at childBase in slot order, each depth-first.
+  std::vector<uint32_t> grand;
+  for (int i = 0; i < interiorCount; ++i) {
+    grand.clear();
+    Gather(interior[i], 0, grand);
+    Emit(node.childBase + uint32_t(i), grand, depth + 1);
+  }
+}
+
+}  // namespace
+
+WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds) {
+  WideBvhResult result;
+  if (binary.nodes.empty() || binary.primOrder.empty()) return result;
+  std::vector<BvhNode> nodes = LeafSplitter(binary, primBounds).Run();
+  Collapser(binary, std::move(nodes), &result).Run();
+  return result;
+}
+
+}  // namespace pt
