@@ -179,11 +179,18 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its material as the sort key.
   void IntersectClosest(uint32_t n) {
-    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) IntersectLayout<BvhLayout::kWide>(n);
-    else IntersectLayout<BvhLayout::kBinary>(n);
+    const SceneView& v = sceneBuffers_.view;
+    bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
+    if (instanced) {
+      if (wide) IntersectLayout<BvhLayout::kWide, true>(n);
+      else IntersectLayout<BvhLayout::kBinary, true>(n);
+    } else {
+      if (wide) IntersectLayout<BvhLayout::kWide, false>(n);
+      else IntersectLayout<BvhLayout::kBinary, false>(n);
+    }
   }
 
-  template <BvhLayout L>
+  template <BvhLayout L, bool kInstanced>
   void IntersectLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
@@ -191,7 +198,7 @@ class WavefrontIntegrator {
     uint32_t* keys = sort_ ? sortKeys_.Data() : nullptr;
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath<L>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
+      IntersectPath<L, kInstanced>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
     });
   }
 
@@ -223,18 +230,25 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(uint32_t n) {
-    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) ShadowLayout<BvhLayout::kWide>(n);
-    else ShadowLayout<BvhLayout::kBinary>(n);
+    const SceneView& v = sceneBuffers_.view;
+    bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
+    if (instanced) {
+      if (wide) ShadowLayout<BvhLayout::kWide, true>(n);
+      else ShadowLayout<BvhLayout::kBinary, true>(n);
+    } else {
+      if (wide) ShadowLayout<BvhLayout::kWide, false>(n);
+      else ShadowLayout<BvhLayout::kBinary, false>(n);
+    }
   }
 
-  template <BvhLayout L>
+  template <BvhLayout L, bool kInstanced>
   void ShadowLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
-      TraceShadowRay<L>(scene, ps, queue[i], counters);
+      TraceShadowRay<L, kInstanced>(scene, ps, queue[i], counters);
     });
   }
 
@@ -275,6 +289,7 @@ class WavefrontIntegrator {
   }
   void ApplyOptions(const RenderOptions& options);
   void SceneChanged();
+  void TopLevelChanged();
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -318,7 +333,8 @@ class WavefrontIntegrator {
       shadowRadiance_;
   Buffer<float> prevPdf_, shadowTMax_;
   Buffer<uint32_t> flags_, queue_, sortKeys_;
-  Buffer<HitRecord> hit_;
+  Buffer<PathHit> hit_;
+  Buffer<uint32_t> hitInstance_;
   Buffer<vec3> featureAlbedo_, featureNormal_;
   Buffer<float> featureDepth_;
   PathState pathState_{};

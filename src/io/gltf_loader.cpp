@@ -266,12 +266,32 @@ class GltfWalker {
   }
 
  private:
+  // A mesh that several nodes use is stored once and placed by each node's transform (an
+  // instance); a mesh used once is flattened into world space.
   void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
     if (size_t(meshIndex) >= model_.meshes.size()) {
       Malformed("mesh " + std::to_string(meshIndex) + " does not exist");
     }
+    auto emit = [&] {
+      for (const tinygltf::Primitive& p : model_.meshes[meshIndex].primitives) EmitPrimitive(p);
+    };
+    if (sink_.InstancesAllowed() && MeshUses(meshIndex) > 1) {
+      sink_.PlaceInstance(meshIndex, toWorld, emit);
+      return;
+    }
     sink_.SetTransform(toWorld);
-    for (const tinygltf::Primitive& p : model_.meshes[meshIndex].primitives) EmitPrimitive(p);
+    emit();
+  }
+
+  // How many nodes name the mesh (counted once per model).
+  int MeshUses(int meshIndex) {
+    if (meshUses_.empty()) {
+      meshUses_.assign(model_.meshes.size(), 0);
+      for (const tinygltf::Node& n : model_.nodes) {
+        if (n.mesh >= 0 && size_t(n.mesh) < meshUses_.size()) ++meshUses_[n.mesh];
+      }
+    }
+    return meshUses_[meshIndex];
   }
 
   // An optional per-vertex attribute; its count must match the positions'.
@@ -324,6 +344,7 @@ class GltfWalker {
   GltfMaterialTable materials_;
   bool warnedMode_ = false;
   bool warnedUvs_ = false;
+  std::vector<int> meshUses_;
 };
 
 std::vector<int> RootNodes(const tinygltf::Model& model) {
@@ -352,7 +373,13 @@ void LoadGltfMesh(const std::string& path, MeshSink& sink) {
   GltfEncodedImages images;
   tinygltf::Model model = ReadModel(path, sink, images);
   GltfWalker walker(model, images, sink);
+  int skippedBefore = sink.SkippedSingularInstances();
   for (int root : RootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
+  int skipped = sink.SkippedSingularInstances() - skippedBefore;
+  if (skipped > 0) {
+    sink.Warn(std::to_string(skipped) + " node" + (skipped > 1 ? "s" : "") +
+              " with a singular transform (scale 0) not placed");
+  }
 }
 
 }  // namespace pt

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "src/scene/instances.h"
+
 namespace pt {
 
 std::string OneLine(std::string text) {
@@ -38,11 +40,44 @@ MeshSink::MeshSink(SceneDesc& scene, const glm::dmat4& objectToWorld, int64_t ma
 void MeshSink::SetTransform(const glm::dmat4& toWorld) {
   toWorld_ = toWorld;
   normalMatrix_ = glm::transpose(glm::inverse(glm::dmat3(toWorld)));
+  mirrored_ = glm::determinant(glm::dmat3(toWorld)) < 0.0;
+}
+
+void MeshSink::PlaceInstance(int key, const glm::dmat4& toWorld,
+                             const std::function<void()>& emit) {
+  auto it = meshes_.find(key);
+  if (it == meshes_.end()) {
+    glm::dmat4 placing = toWorld_;
+    SetTransform(glm::dmat4(1.0));
+    uint32_t first = uint32_t(scene_.triangles.size());
+    emit();
+    uint32_t count = uint32_t(scene_.triangles.size()) - first;
+    SetTransform(placing);
+    int64_t mesh = -1;
+    if (count > 0) {
+      mesh = int64_t(scene_.meshes.size());
+      scene_.meshes.push_back(MeshDesc{label_ + " mesh " + std::to_string(key), first, count});
+    }
+    it = meshes_.emplace(key, mesh).first;
+  }
+  if (it->second < 0) return;
+  std::string why;
+  if (!ValidInstanceTransform(toWorld, &why)) {
+    ++skippedSingular_;
+    return;
+  }
+  InstanceDesc instance;
+  instance.mesh = uint32_t(it->second);
+  instance.toWorld = toWorld;
+  scene_.instances.push_back(instance);
 }
 
 bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs) {
+  // Under a mirroring transform vertices 1 and 2 trade places (with their attributes), so the
+  // world winding, and with it the front, stays the file's.
+  const int order[3] = {0, mirrored_ ? 2 : 1, mirrored_ ? 1 : 2};
   vec3 w[3];
-  for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
+  for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[order[i]]), 1.0));
   if (IsDegenerateTriangle(w[0], w[1], w[2])) {
     scene_.skippedDegenerateTriangles++;
     return false;
@@ -52,7 +87,7 @@ bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, cons
     vec3 n[3];
     bool valid = true;
     for (int i = 0; i < 3; ++i) {
-      glm::dvec3 d = normalMatrix_ * glm::dvec3(normals[i]);
+      glm::dvec3 d = normalMatrix_ * glm::dvec3(normals[order[i]]);
       double len = glm::length(d);
       valid = valid && len > 0.0 && std::isfinite(len);
       n[i] = valid ? vec3(d / len) : vec3(0.0f);
@@ -64,8 +99,9 @@ bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, cons
     allUvs.resize(scene_.triangles.size());  // the first textured triangle: zeros before it
     vec2 uv[3];
     for (int i = 0; i < 3; ++i) {
-      bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
-      uv[i] = finite ? uvs[i] : vec2(0.0f);  // a NaN coordinate would poison the lookup
+      vec2 in = uvs[order[i]];
+      bool finite = std::isfinite(in.x) && std::isfinite(in.y);
+      uv[i] = finite ? in : vec2(0.0f);  // a NaN coordinate would poison the lookup
     }
     allUvs.push_back(TriangleUvs{uv[0], uv[1], uv[2]});
   } else if (!allUvs.empty()) {

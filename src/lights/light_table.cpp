@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "src/lights/light_sample.h"
+#include "src/scene/instances.h"
 
 namespace pt {
 
@@ -42,7 +43,8 @@ void FillDistribution(const std::vector<double>& power, Scene& scene) {
 double LightPower(const Scene& scene, const Light& light) {
   switch (light.type) {
     case LightType::kArea: {
-      double area = PrimArea(scene.desc, scene.prims[light.prim]);
+      double area = light.instance >= 0 ? InstanceLightArea(scene, light)
+                                        : PrimArea(scene.desc, scene.prims[light.prim]);
       double sides = light.twoSided ? 2.0 : 1.0;
       return double(Luminance(light.radiance)) * area * double(kPi) * sides;
     }
@@ -63,8 +65,12 @@ void BuildLightTable(Scene& scene) {
   // Area lights in the order of the shapes (tagIndex), not of the BVH's leaves, so the table
   // and every light choice are the same whatever the layout or builder; a shape that spatial
   // splits put in several leaves is one light, named by every copy.
+  // With instances, each placement's emitters come first (AppendInstanceLights), then the
+  // world-space primitives': the order of a scene whose instances FlattenInstances placed.
+  if (scene.HasInstances()) AppendInstanceLights(scene);
   std::vector<uint32_t> emitters;
-  for (size_t i = 0; i < scene.prims.size(); ++i) {
+  size_t worldPrims = scene.HasInstances() ? scene.worldPrimCount : scene.prims.size();
+  for (size_t i = 0; i < worldPrims; ++i) {
     PrimRef& prim = scene.prims[i];
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
@@ -102,6 +108,10 @@ void BuildLightTable(Scene& scene) {
     scene.backgroundLight = int32_t(scene.lights.size());
     scene.lights.push_back(light);
   }
+  UpdateLightDistribution(scene);
+}
+
+void UpdateLightDistribution(Scene& scene) {
   std::vector<double> power;
   power.reserve(scene.lights.size());
   for (const Light& light : scene.lights) power.push_back(LightPower(scene, light));

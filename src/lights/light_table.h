@@ -12,8 +12,12 @@ double LightPower(const Scene& scene, const Light& light);
 // Fills scene.lights, scene.lightPmf / lightCdf and scene.backgroundLight, and sets
 // PrimRef::light on emitting primitives (-1 elsewhere). Expects scene.prims in BVH order with
 // materials set, scene.desc (materials, shapes, point lights, background) and the bounding
-// sphere scene.sceneCenter / sceneRadius. Light order: area lights in PrimRef order, then point
-// lights in file order, then the background when it is not black.
+// sphere scene.sceneCenter / sceneRadius. Light order: each instance's area lights
+// (src/scene/instances.h), then the world's in shape order, then point lights in file order,
+// then the background when it is not black.
 void BuildLightTable(Scene& scene);
+
+// The choice probabilities again from the lights' current power (after instances moved).
+void UpdateLightDistribution(Scene& scene);
 
 }  // namespace pt

@@ -85,6 +85,7 @@ struct Light {
   vec3 position = vec3(0.0f);  // point
   vec3 intensity = vec3(0.0f);  // point: W/sr
   uint32_t twoSided = 0;      // area
+  int32_t instance = -1;      // area: the placement of an instanced mesh's triangle, or -1
 };
 
 // ---- BVH ----
