@@ -21,7 +21,7 @@ using namespace pt::hard;
 // non-zero products. Tolerance: 64 unit roundoffs times (1 + D / size), where D is the ray's
 // length and size the shape's (the shear multiplies the vertex offsets, up to D + size, into
 // the edge functions whose scale is size) - 1.2e-5 relative for the rays below.
-TEST(HardGeometry, GrazingRaysHitAxisAlignedTrianglesAndQuadsDownTo1e6Rad) {
+TEST_P(HardLayout, GrazingRaysHitAxisAlignedTrianglesAndQuadsDownTo1e6Rad) {
   const float y0 = 0.25f;  // the plane y = y0
   Triangle tri{vec3(-1.0f, y0, -1.0f), vec3(1.5f, y0, -0.75f), vec3(-0.5f, y0, 1.25f)};
   Quad quad{vec3(-1.0f, y0, -1.0f), vec3(2.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 2.0f)};
@@ -97,7 +97,7 @@ TEST(HardGeometry, GrazingRaysHitAxisAlignedTrianglesAndQuadsDownTo1e6Rad) {
 // triangle of size S at distance D - beyond t = D once theta < 9e-7 D / S - and the hit is
 // dropped. Fix: deltaX = gamma(5) * (maxXt + |sx / sz| * maxZt), deltaY likewise with sy.
 // This test and the one above fail until that fix is applied.
-TEST(HardGeometry, GrazingRaysHitSmallDistantFloorTriangles) {
+TEST_P(HardLayout, GrazingRaysHitSmallDistantFloorTriangles) {
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   int failures = 0, tested = 0;
@@ -136,7 +136,7 @@ TEST(HardGeometry, GrazingRaysHitSmallDistantFloorTriangles) {
 // black floor); a sample whose floor hit is dropped goes on below the floor to the sky and
 // adds 1/4 - a hole. Deterministic (each sample is 0 or 1).
 // KNOWN FAILURE until the src/geometry/shapes.h fix above is applied.
-TEST(HardGeometry, TessellatedFloorNearTheHorizonHasNoHoles) {
+TEST_P(HardLayout, TessellatedFloorNearTheHorizonHasNoHoles) {
   SceneDesc desc = LoadSceneFromString(R"({
     "render": {"width": 32, "height": 32, "spp": 4, "max_depth": 1, "seed": 1},
     "camera": {"position": [0, 0.1, 0], "look_at": [100, 0, 0], "fov_y": 0.1},
@@ -155,7 +155,7 @@ TEST(HardGeometry, TessellatedFloorNearTheHorizonHasNoHoles) {
         desc.triangleMaterials.push_back(0);
       }
     }
-  Scene scene = BuildScene(std::move(desc));
+  Scene scene = BuildScene(std::move(desc), LayoutOptions());
   RenderResult res = test::RenderOnCpu(scene);
   EXPECT_EQ(res.stats.nonfiniteSamples, 0u);
   int checked = 0, holes = 0;
@@ -189,7 +189,7 @@ TEST(HardGeometry, TessellatedFloorNearTheHorizonHasNoHoles) {
 // whose plane distance is checked against gamma(6) |n| (|origin| + |o|)); t within 4 shift +
 // 64 eps t; never a NaN. At 1e-6 rad only the no-NaN and the t bounds remain (the count of
 // asserted hits per angle is recorded).
-TEST(HardGeometry, GrazingRaysOnRotatedPlanesWithinTheConditionBound) {
+TEST_P(HardLayout, GrazingRaysOnRotatedPlanesWithinTheConditionBound) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   std::normal_distribution<double> g;
@@ -281,7 +281,7 @@ TEST(HardGeometry, GrazingRaysOnRotatedPlanesWithinTheConditionBound) {
 // angles above ~1.2e-3 rad; closer to tangent a hit or a miss are both right, but never a NaN
 // or a t off the exact root by more than the condition bound (the root moves by db/sin(angle)
 // when b moves by db): 8 gamma(6) (|f| + r) (1 + 1 / sin(angle)).
-TEST(HardGeometry, GrazingRaysAtSphereSilhouettes) {
+TEST_P(HardLayout, GrazingRaysAtSphereSilhouettes) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   std::normal_distribution<double> g;
@@ -340,6 +340,12 @@ TEST(HardGeometry, GrazingRaysAtSphereSilhouettes) {
   EXPECT_LT(smallestRequiredAngle, 2e-3);
   RecordProperty("smallest_asserted_sphere_angle", Fmt(smallestRequiredAngle));
 }
+
+INSTANTIATE_TEST_SUITE_P(Layouts, HardLayout,
+                         testing::Values(BvhLayout::kBinary, BvhLayout::kWide),
+                         [](const testing::TestParamInfo<BvhLayout>& info) {
+                           return std::string(BvhLayoutName(info.param));
+                         });
 
 }  // namespace
 }  // namespace pt

@@ -12,6 +12,8 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "src/geometry/shapes.h"
 #include "src/geometry/traverse.h"
 #include "src/integrator/stages/generate.h"
@@ -31,6 +33,25 @@ inline std::string Fmt(double v) {  // for RecordProperty: 3 significant digits,
   std::snprintf(buf, sizeof(buf), "%.3g", v);
   return buf;
 }
+
+// The geometric cases run once per BVH layout: TEST_P(HardLayout, ...) sets the layout that
+// BuildShapes (and LayoutOptions) build for the test's duration.
+inline BvhLayout& LayoutUnderTest() {
+  static BvhLayout layout = BvhLayout::kBinary;
+  return layout;
+}
+
+inline BvhBuildOptions LayoutOptions() {
+  BvhBuildOptions o;
+  o.layout = LayoutUnderTest();
+  return o;
+}
+
+class HardLayout : public testing::TestWithParam<BvhLayout> {
+ protected:
+  void SetUp() override { LayoutUnderTest() = GetParam(); }
+  void TearDown() override { LayoutUnderTest() = BvhLayout::kBinary; }
+};
 
 // A scene of bare shapes (one diffuse material), built by the renderer's own BuildScene so the
 // BVH and the view are exactly what rendering uses.
@@ -55,7 +76,7 @@ inline ShapeScene BuildShapes(std::vector<Triangle> tris, std::vector<Quad> quad
   d.quads = std::move(quads);
   d.sphereMaterials.assign(spheres.size(), 0);
   d.spheres = std::move(spheres);
-  ShapeScene s{BuildScene(std::move(d)), {}};
+  ShapeScene s{BuildScene(std::move(d), LayoutOptions()), {}};
   s.view = HostSceneView(s.scene);
   return s;
 }

@@ -86,7 +86,7 @@ int TraceAtEdges(const ShapeScene& s, const std::vector<Triangle>& tris, dvec3 c
   return failures;
 }
 
-TEST(HardGeometry, WatertightAtSharedEdgesOfMeshesFarFromTheOrigin) {
+TEST_P(HardLayout, WatertightAtSharedEdgesOfMeshesFarFromTheOrigin) {
   // Unit-size and kilometre-size meshes at offset 1e4 (float spacing there is ~1e-3) and 1e5.
   struct Case { dvec3 center; double radius; };
   for (Case c : {Case{dvec3(1e4, -1e4, 1e4), 1.0}, Case{dvec3(1e4, 1e4, -1e4), 1e3},
@@ -138,7 +138,7 @@ TEST(HardGeometry, WatertightAtSharedEdgesOfMeshesFarFromTheOrigin) {
 // its vertices and across its triangles) must not report the floor - every triangle and quad
 // is seen edge-on, det = 0 - and must still find the sphere resting on it, at the right t,
 // with no NaN anywhere. The same for rays spawned from a floor point along the tangent plane.
-TEST(HardGeometry, RaysInsideASurfacePlaneReportNoSpuriousHits) {
+TEST_P(HardLayout, RaysInsideASurfacePlaneReportNoSpuriousHits) {
   for (float scale : {1e-4f, 1.0f, 1e4f}) {
     std::vector<Triangle> floor;
     const int n = 8;
@@ -248,7 +248,7 @@ double ExactT(const ShapeScene& s, const Ray& ray, const HitRecord& hit) {
 // going back up, the upper one. Each t must match the exact distance along the float ray to
 // within 5% of the gap: t's own rounding is a few eps * size (< 0.5% of the gap), while
 // hitting the wrong surface is off by the whole gap.
-TEST(HardGeometry, SurfacesOneHundredThousandthApartStayDistinct) {
+TEST_P(HardLayout, SurfacesOneHundredThousandthApartStayDistinct) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   int failures = 0, checks = 0;

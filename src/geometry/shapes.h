@@ -183,45 +183,24 @@ PT_HDI bool IntersectSphere(const Sphere& sph, const Ray& ray, float tMax, float
 
 // ---- Dispatch over PrimRef ----
 
-namespace detail {
-
-// The first 16 bytes of a packed triangle (p0 and the tag), then the other 32.
-PT_HDI void LoadPackedHead(const PackedTriangle* p, vec3* p0, uint32_t* tag) {
-#if PT_IS_GPU_CODE
-  float4 a = __ldg(reinterpret_cast<const float4*>(p));
-  *p0 = vec3(a.x, a.y, a.z);
-  *tag = __float_as_uint(a.w);
-#else
-  *p0 = p->p0;
-  *tag = p->tag;
-#endif
-}
-
-PT_HDI void LoadPackedTail(const PackedTriangle* p, vec3* p1, vec3* p2) {
-#if PT_IS_GPU_CODE
-  float4 b = __ldg(reinterpret_cast<const float4*>(p) + 1);
-  float4 c = __ldg(reinterpret_cast<const float4*>(p) + 2);
-  *p1 = vec3(b.x, b.y, b.z);
-  *p2 = vec3(c.x, c.y, c.z);
-#else
-  *p1 = p->p1;
-  *p2 = p->p2;
-#endif
-}
-
-}  // namespace detail
-
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
                           const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
   // Triangles come from the packed copy in BVH order (three 16-byte loads, no PrimRef first).
   if (s.packedTriangles != nullptr && s.triangleTest == 0) {
-    Triangle tri;
-    uint32_t tag;
-    detail::LoadPackedHead(s.packedTriangles + primIndex, &tri.p0, &tag);
-    if (ShapeType(tag >> 30) == ShapeType::kTriangle) {
-      detail::LoadPackedTail(s.packedTriangles + primIndex, &tri.p1, &tri.p2);
-      return IntersectTriangle(tri, ray, rd, tMax, tHit, uv);
+#if PT_IS_GPU_CODE
+    const float4* q = reinterpret_cast<const float4*>(s.packedTriangles + primIndex);
+    const float4 a = __ldg(q);
+    if (ShapeType(__float_as_uint(a.w) >> 30) == ShapeType::kTriangle) {
+      const float4 b = __ldg(q + 1), c = __ldg(q + 2);
+      return IntersectTriangle(
+          Triangle{vec3(a.x, a.y, a.z), vec3(b.x, b.y, b.z), vec3(c.x, c.y, c.z)}, ray, rd, tMax,
+          tHit, uv);
     }
+#else
+    const PackedTriangle& p = s.packedTriangles[primIndex];
+    if (ShapeType(p.tag >> 30) == ShapeType::kTriangle)
+      return IntersectTriangle(Triangle{p.p0, p.p1, p.p2}, ray, rd, tMax, tHit, uv);
+#endif
   }
   PrimRef ref = s.prims[primIndex];
   switch (ref.Type()) {

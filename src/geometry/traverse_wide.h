@@ -110,6 +110,9 @@ struct WideRay {
   vec3 o, invDir;
   uint32_t octInv;  // 7 - octant (octant bit a: the ray goes towards -a)
   bool neg[3];
+  // Host: the words of WideNodeWords holding each axis's near and far planes (qlo at 8 + 2a,
+  // qhi at 14 + 2a; swapped where the ray goes down), read by index rather than by selects.
+  uint32_t nearWord[3], farWord[3];
 };
 
 // Error bound of the slab distances (for a box bound b = origin + q * scale, exact value
@@ -146,22 +149,19 @@ inline __m128 WideBytes(uint32_t w) {
 inline uint32_t IntersectWideChildrenSse(const WideNodeWords& n, const WideRay& r, float tMax,
                                          const float adj[3], const float nearD[3],
                                          const float farD[3]) {
-  const __m128 adjX = _mm_set1_ps(adj[0]), adjY = _mm_set1_ps(adj[1]), adjZ = _mm_set1_ps(adj[2]);
-  const __m128 nX = _mm_set1_ps(nearD[0]), nY = _mm_set1_ps(nearD[1]), nZ = _mm_set1_ps(nearD[2]);
-  const __m128 fX = _mm_set1_ps(farD[0]), fY = _mm_set1_ps(farD[1]), fZ = _mm_set1_ps(farD[2]);
   const __m128 tMaxV = _mm_set1_ps(tMax), scale = _mm_set1_ps(kWideFarScale);
   uint32_t hits = 0;
   for (int half = 0; half < 2; ++half) {
-    uint32_t loX = n.w[8 + half], hiX = n.w[14 + half];
-    uint32_t loY = n.w[10 + half], hiY = n.w[16 + half];
-    uint32_t loZ = n.w[12 + half], hiZ = n.w[18 + half];
-    __m128 t0 = _mm_max_ps(
-        _mm_add_ps(_mm_mul_ps(WideBytes(r.neg[0] ? hiX : loX), adjX), nX), _mm_setzero_ps());
-    t0 = _mm_max_ps(_mm_add_ps(_mm_mul_ps(WideBytes(r.neg[1] ? hiY : loY), adjY), nY), t0);
-    t0 = _mm_max_ps(_mm_add_ps(_mm_mul_ps(WideBytes(r.neg[2] ? hiZ : loZ), adjZ), nZ), t0);
-    __m128 t1 = _mm_min_ps(_mm_add_ps(_mm_mul_ps(WideBytes(r.neg[0] ? loX : hiX), adjX), fX), tMaxV);
-    t1 = _mm_min_ps(_mm_add_ps(_mm_mul_ps(WideBytes(r.neg[1] ? loY : hiY), adjY), fY), t1);
-    t1 = _mm_min_ps(_mm_add_ps(_mm_mul_ps(WideBytes(r.neg[2] ? loZ : hiZ), adjZ), fZ), t1);
+    __m128 t0 = _mm_setzero_ps(), t1 = tMaxV;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 adjA = _mm_set1_ps(adj[a]);
+      __m128 tn = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.nearWord[a] + half]), adjA),
+                             _mm_set1_ps(nearD[a]));
+      __m128 tf = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.farWord[a] + half]), adjA),
+                             _mm_set1_ps(farD[a]));
+      t0 = _mm_max_ps(tn, t0);
+      t1 = _mm_min_ps(tf, t1);
+    }
     uint32_t mask = uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, scale))));
     const uint32_t meta4 = n.w[6 + half];
     while (mask != 0) {
@@ -232,6 +232,10 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   r.neg[1] = r.invDir.y < 0.0f;
   r.neg[2] = r.invDir.z < 0.0f;
   r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
+  for (int a = 0; a < 3; ++a) {
+    r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
+    r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);
+  }
   uint32_t nodesVisited = 0;
 
   uint32_t stackBase[kWideStackSize], stackMask[kWideStackSize];
@@ -260,16 +264,15 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
       primBase = n.w[5];
       primMask = hits & 0x00ffffffu;
     }
-    bool stop = false;
     while (primMask != 0) {
       const uint32_t bit = detail::LowestBit(primMask);
       primMask &= primMask - 1u;
       if (leaf(primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
-        stop = true;
+        groupMask = 0;  // done: the stack is dropped below
+        stackSize = 0;
         break;
       }
     }
-    if (stop) break;
     if (groupMask <= 0x00ffffffu) {
       if (stackSize == 0) break;
       --stackSize;
