@@ -45,8 +45,16 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
-  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvhLayout in run.cpp)
+  std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
   BvhBuilder bvhBuilder = BvhBuilder::kSah;
+  size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
+  float clampLuminance = 0.0f;  // --clamp: 0 = off
+
+  // Long renders.
+  double progressEverySeconds = 10.0;   // progress lines when stderr is not a terminal
+  double checkpointEverySeconds = 0.0;  // 0 = none; else rewrite --hdr as a resumable state
+  std::string resumePath;               // --resume, empty = a fresh render
+  std::vector<std::string> arguments;   // the command line as given (for the stats)
 
   bool quiet = false;
   bool help = false;

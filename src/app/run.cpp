@@ -1,64 +1,33 @@
 #include "src/app/run.h"
 
-#include <unistd.h>
-
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <new>
+#include <optional>
 #include <string>
 
+#include "src/app/app_failure.h"
 #include "src/app/cli.h"
-#include "src/app/progress.h"
+#include "src/app/outputs.h"
+#include "src/app/render_job.h"
+#include "src/app/resume.h"
 #include "src/app/stats_json.h"
+#include "src/app/stop_signals.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/scene/effects.h"
+#include "src/scene/scene_checks.h"
 
 namespace pt {
 namespace {
-
-// A failure with its exit status; thrown by the steps below, caught once in RunApp.
-struct AppFailure {
-  int status;
-  std::string message;
-};
-
-std::atomic<bool> gInterrupted{false};
-
-// First Ctrl-C: stop after the current wave and write what has accumulated. Second: die.
-extern "C" void OnSigint(int) {
-  if (gInterrupted.exchange(true)) {
-    std::signal(SIGINT, SIG_DFL);
-    std::raise(SIGINT);
-    return;
-  }
-  const char message[] = "\npathtracer: interrupted; writing the image (Ctrl-C again to quit)\n";
-  ssize_t ignored = write(STDERR_FILENO, message, sizeof(message) - 1);
-  (void)ignored;
-}
-
-void InstallSigintHandler() {
-  struct sigaction action = {};
-  action.sa_handler = OnSigint;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-}
 
 using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-void CheckOutputsWritable(const CliOptions& cli) {
-  for (const std::string* path :
-       {&cli.outputPath, &cli.hdrPath, &cli.statsJsonPath, &cli.sppMapPath}) {
-    std::string why;
-    if (!path->empty() && !CheckWritable(*path, &why)) {
-      throw AppFailure{kExitRuntimeFailure, "cannot write " + *path + ": " + why};
-    }
-  }
+void Warn(const std::string& warning) {
+  std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
 }
 
 SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
@@ -77,9 +46,7 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   } catch (const CliError& e) {
     throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
   }
-  for (const std::string& warning : desc.warnings) {
-    std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
-  }
+  for (const std::string& warning : desc.warnings) Warn(warning);
   return desc;
 }
 
@@ -124,7 +91,6 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
   return cut;
 }
 
-// auto: CUDA when it is built and a GPU is present, else the CPU.
 // --bvh auto: the wide layout where the render will run on the GPU, the binary one on the
 // CPU (each the faster there: benchmarks/RESULTS.md). Decided before the build, so it asks
 // only whether a GPU would be used; a refused --backend cuda still fails in ChooseBackend.
@@ -142,6 +108,7 @@ BvhBuildOptions ChooseBvh(const CliOptions& cli, const AppBackends& backends) {
   return options;
 }
 
+// auto: CUDA when it is built and a GPU is present, else the CPU.
 BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
   int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
   bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
@@ -152,12 +119,6 @@ BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
   }
   bool useCuda = requested != BackendKind::kCpu && cudaReady;
   return useCuda ? BackendKind::kCuda : BackendKind::kCpu;
-}
-
-void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
-  WriteImage(cli.outputPath, image, false);
-  if (!cli.hdrPath.empty()) WriteImage(cli.hdrPath, image, true);
-  if (!cli.sppMapPath.empty()) WriteSppMap(cli.sppMapPath, image);
 }
 
 RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
@@ -172,41 +133,17 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.timeLimitSeconds = cli.timeLimitSeconds;
   options.previewEverySeconds = cli.previewEverySeconds;
   options.reference = reference;
+  options.maxPathsInFlight = cli.maxPaths;
   options.adaptive = cli.adaptive;
   options.lightPaths = cli.lightPaths;
   options.rayOffsetEpsilon = cli.rayOffsetEpsilon;
   options.filmDouble = cli.filmDouble;
   options.specialize = cli.specialize;
   options.triangleTest = cli.triangleTest;
+  options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
   return options;
-}
-
-RenderResult Render(const CliOptions& cli, const Scene& scene, SessionFactory makeSession,
-                    const RenderOptions& options) {
-  ProgressBar progress(cli.quiet);
-  RenderCallbacks callbacks;
-  callbacks.shouldStop = [] { return gInterrupted.load(std::memory_order_relaxed); };
-  callbacks.onProgress = [&progress](uint64_t done, uint64_t total) {
-    progress.Update(done, total);
-  };
-  if (cli.previewEverySeconds > 0.0) {
-    callbacks.onPreview = [&cli](const FilmImage& image) {
-      try {
-        WriteOutputs(cli, image);
-      } catch (const ImageError& e) {  // the final write reports it for good
-        std::fprintf(stderr, "\npathtracer: warning: preview not written: %s\n", e.what());
-      }
-    };
-  }
-  try {
-    RenderResult result = makeSession(scene, options, callbacks)->Render();
-    progress.Finish();
-    return result;
-  } catch (const BackendUnavailable& e) {
-    throw AppFailure{kExitRuntimeFailure, e.what()};
-  }
 }
 
 // One line saying what the scene needs simulated and which stage variant runs it.
@@ -220,49 +157,129 @@ void PrintEffects(const Scene& scene, bool specialize) {
                specialize ? "" : " (--specialize off)");
 }
 
-void PrintSummary(const RenderResult& result) {
-  const RenderStats& s = result.stats;
+std::string StopNote(const JobOutcome& job) {
+  switch (job.reason) {
+    case StopReason::kSignal: return " (stopped by " + SignalName(job.signal) + ")";
+    case StopReason::kTimeLimit: return " (stopped by --time-limit)";
+    case StopReason::kConverged: return " (adaptive: every pixel converged)";
+    default: return "";
+  }
+}
+
+void PrintSummary(const JobOutcome& job) {
+  const RenderStats& s = job.result.stats;
   RenderRates rates = ComputeRates(s);
   std::string device = s.device.empty() ? s.backend : s.backend + ", " + s.device;
   std::fprintf(stderr,
                "pathtracer: %dx%d, %.1f spp in %.3f s on %s: %.2f Msamples/s, %.2f Mrays/s%s\n",
-               result.image.width, result.image.height, s.sppMean, s.renderMs / 1e3,
-               device.c_str(), rates.msamplesPerS, rates.mraysPerS,
-               s.interrupted ? " (interrupted)" : "");
+               job.result.image.width, job.result.image.height, s.sppMean, s.renderMs / 1e3,
+               device.c_str(), rates.msamplesPerS, rates.mraysPerS, StopNote(job).c_str());
 }
 
-int Run(const CliOptions& cli, const AppBackends& backends) {
+// The last lines: each file written.
+void PrintWritten(const std::vector<std::string>& files, const CliOptions& cli, bool resumable) {
+  for (const std::string& file : files) {
+    bool state = resumable && file == cli.hdrPath;
+    std::fprintf(stderr, "pathtracer: wrote %s%s\n", file.c_str(),
+                 state ? (" (resumable: --resume " + file + " continues it)").c_str() : "");
+  }
+}
+
+RunReport MakeReport(const CliOptions& cli, const Scene& scene, const JobOutcome& job,
+                     BackendKind backend) {
+  RunReport r;
+  r.commandLine = cli.arguments;
+  r.sceneFile = cli.scenePath;
+  r.sppRequested = scene.desc.render.spp;
+  r.stopReason = StopReasonName(job.reason);
+  if (job.reason == StopReason::kSignal) r.signal = SignalName(job.signal);
+  r.clampLuminance = cli.clampLuminance;
+  r.resumedFrom = cli.resumePath;
+  r.resumedSamples = job.resumedSamples;
+  r.checkpoints = job.checkpoints;
+  r.deviceMemory = backend == BackendKind::kCuda;
+  r.peakRssBytes = PeakRssBytes();
+  return r;
+}
+
+// The render on the chosen backend; with the render's description where a resumable state
+// may be written or read.
+RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend,
+                  const AppBackends& backends, const std::vector<float>* reference) {
+  RenderJob job;
+  job.cli = &cli;
+  job.scene = &scene;
+  job.makeSession = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
+  job.options = MakeRenderOptions(cli, backend, reference);
+  if (IsExrPath(cli.hdrPath) || !cli.resumePath.empty()) {
+    bool adaptive = cli.adaptive == Toggle::kAuto ? scene.desc.render.adaptive.enabled
+                                                  : cli.adaptive == Toggle::kOn;
+    job.description = DescribeRender(cli, scene, job.options, adaptive).dump();
+  }
+  return job;
+}
+
+// The images (the --hdr EXR resumable when the job kept its film) and the stats; returns the
+// files written.
+std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
+                                      const RenderJob& job, const JobOutcome& outcome,
+                                      AppTimes times, Clock::time_point start) {
+  try {
+    ResumableState state{&outcome.film, job.options.filmDouble, job.description};
+    std::vector<std::string> written =
+        WriteImages(cli, outcome.result.image, outcome.keepState ? &state : nullptr);
+    if (!cli.statsJsonPath.empty()) {
+      times.totalMs = MsSince(start);
+      RunReport report = MakeReport(cli, scene, outcome, job.options.backend);
+      WriteStatsJson(cli.statsJsonPath, StatsToJson(outcome.result.stats, scene, times, report));
+      written.push_back(cli.statsJsonPath);
+    }
+    return written;
+  } catch (const ImageError& e) {
+    throw AppFailure{kExitRuntimeFailure, e.what()};
+  }
+}
+
+int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point start) {
   CheckOutputsWritable(cli);
   AppTimes times;
-  SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
-  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends), &times.bvhBuildMs);
+  Scene scene = Build(LoadAndOverride(cli, &times.loadMs), ChooseBvh(cli, backends),
+                      &times.bvhBuildMs);
+  for (const std::string& warning : DarkSceneWarnings(scene)) Warn(warning);
   PrintEffects(scene, cli.specialize);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);
-  SessionFactory makeSession =
-      backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
-  InstallSigintHandler();
-  RenderOptions options =
-      MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
-  RenderResult result = Render(cli, scene, makeSession, options);
-  bool interrupted = gInterrupted.load();
-  result.stats.interrupted = result.stats.interrupted || interrupted;
-  try {
-    WriteOutputs(cli, result.image);
-    if (!cli.statsJsonPath.empty()) {
-      WriteStatsJson(cli.statsJsonPath, StatsToJson(result.stats, scene, times));
-    }
-  } catch (const ImageError& e) {
-    throw AppFailure{kExitRuntimeFailure, e.what()};
-  }
-  PrintSummary(result);
-  return interrupted ? kExitInterrupted : kExitOk;
+  RenderJob job = MakeJob(cli, scene, backend, backends, cli.referencePath.empty() ? nullptr : &reference);
+  std::optional<FilmState> resumed;
+  if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
+  job.resumeFrom = resumed ? &*resumed : nullptr;
+  InstallStopSignals();
+  JobOutcome outcome = RunRenderJob(job);
+  std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
+  PrintSummary(outcome);
+  PrintWritten(written, cli, outcome.keepState);
+  return outcome.reason == StopReason::kSignal ? 128 + outcome.signal : kExitOk;
+}
+
+// Out of GPU memory: what was asked, and what to lower.
+std::string OutOfMemoryMessage(const OutOfDeviceMemory& e, const CliOptions& cli) {
+  auto gib = [](size_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.2f GiB", double(bytes) / double(1ull << 30));
+    return std::string(text);
+  };
+  std::string paths = cli.maxPaths ? " (now " + std::to_string(cli.maxPaths) + ")" : "";
+  return std::string(e.what()) + ": asked for " + gib(e.requestedBytes) + " more with " +
+         gib(e.heldBytes) + " held by the renderer; the GPU had " + gib(e.deviceFreeBytes) +
+         " free of " + gib(e.deviceTotalBytes) + ". Hint: lower --max-paths" + paths +
+         " (the paths in flight, about 120 bytes each), or render a smaller image or --crop";
 }
 
 }  // namespace
 
 int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
+  Clock::time_point start = Clock::now();
   CliOptions cli;
   try {
     cli = ParseCli(argc, argv);
@@ -279,10 +296,16 @@ int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
     return kExitOk;
   }
   try {
-    return Run(cli, backends);
+    return Run(cli, backends, start);
   } catch (const AppFailure& failure) {
     std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
     return failure.status;
+  } catch (const OutOfDeviceMemory& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", OutOfMemoryMessage(e, cli).c_str());
+    return kExitRuntimeFailure;
+  } catch (const BackendUnavailable& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", e.what());
+    return kExitRuntimeFailure;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "pathtracer: out of memory\n");
     return kExitRuntimeFailure;
