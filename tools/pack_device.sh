@@ -8,6 +8,7 @@ BUILD="${1:-build}"
 rm -rf .device && mkdir -p .device/bin/lib .device/shared/assets .device/shared/peer-scenes
 cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
 [ -f "$BUILD/make_mesh_glb" ] && cp "$BUILD/make_mesh_glb" .device/bin/
+[ -f "$BUILD/instance_bench" ] && cp "$BUILD/instance_bench" .device/bin/
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
   case "$(basename "$lib")" in
     libtiny*|libstb*|libminiz*) cp -L "$lib" .device/bin/lib/ ;;

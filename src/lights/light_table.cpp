@@ -108,14 +108,23 @@ void BuildLightTable(Scene& scene) {
     scene.backgroundLight = int32_t(scene.lights.size());
     scene.lights.push_back(light);
   }
+  scene.lightPower.clear();
+  UpdateLightPowers(scene, 0, scene.lights.size());
   UpdateLightDistribution(scene);
 }
 
+void UpdateLightPowers(Scene& scene, size_t first, size_t end) {
+  scene.lightPower.resize(scene.lights.size(), 0.0);
+  for (size_t i = first; i < end; ++i) scene.lightPower[i] = LightPower(scene, scene.lights[i]);
+}
+
 void UpdateLightDistribution(Scene& scene) {
-  std::vector<double> power;
-  power.reserve(scene.lights.size());
-  for (const Light& light : scene.lights) power.push_back(LightPower(scene, light));
-  FillDistribution(power, scene);
+  // The background's power follows the bounding sphere, which moving instances changes.
+  if (scene.backgroundLight >= 0) {
+    size_t b = size_t(scene.backgroundLight);
+    UpdateLightPowers(scene, b, b + 1);
+  }
+  FillDistribution(scene.lightPower, scene);
 }
 
 }  // namespace pt

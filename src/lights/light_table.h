@@ -17,7 +17,11 @@ double LightPower(const Scene& scene, const Light& light);
 // then the background when it is not black.
 void BuildLightTable(Scene& scene);
 
-// The choice probabilities again from the lights' current power (after instances moved).
+// Recomputes scene.lightPower of lights [first, end) (an instance's lights after it moved).
+void UpdateLightPowers(Scene& scene, size_t first, size_t end);
+
+// The choice probabilities again from scene.lightPower, the background's recomputed (the
+// bounding sphere may have changed). O(lights), no power recomputed but the background's.
 void UpdateLightDistribution(Scene& scene);
 
 }  // namespace pt

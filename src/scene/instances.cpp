@@ -252,6 +252,12 @@ void UpdateInstanceTransform(Scene& scene, size_t index, const glm::dmat4& toWor
   int32_t lightBase = scene.instances[index].lightBase;
   scene.instances[index] = MakeInstance(scene, desc.mesh, toWorld, desc.material);
   scene.instances[index].lightBase = lightBase;
+  if (lightBase < 0) return;
+  // Its lights' power follows its scale: recomputed here, so that RebuildTopLevel need not
+  // recompute every instance's (millions of lights where emissive meshes are placed often).
+  size_t end = size_t(lightBase);
+  while (end < scene.lights.size() && scene.lights[end].instance == int32_t(index)) ++end;
+  UpdateLightPowers(scene, size_t(lightBase), end);
 }
 
 void RebuildTopLevel(Scene& scene) {

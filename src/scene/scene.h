@@ -112,6 +112,7 @@ struct Scene {
   std::vector<PackedTriangle> packedTriangles;  // same order as prims
   std::vector<Light> lights;
   std::vector<float> lightPmf, lightCdf;
+  std::vector<double> lightPower;  // host only: each light's power, what lightPmf follows
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;
