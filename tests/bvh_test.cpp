@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/stat_test_util.h"
+#include "tests/brute_force.h"
 
 #include "tests/icosphere.h"
 
@@ -19,6 +20,7 @@ namespace pt {
 namespace {
 
 using test::RandomUnit;
+using test::BruteForceClosest;
 
 // Shapes plus their BVH, and a SceneView over them (as BuildScene would make one).
 struct TestScene {
@@ -55,15 +57,6 @@ struct TestScene {
   }
 };
 
-bool BruteForceClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit) {
-  hit->prim = HitRecord::kNoHit;
-  for (uint32_t i = 0; i < s.primCount; ++i) {
-    float t;
-    vec2 uv;
-    if (IntersectPrim(s, i, ray, tMax, &t, &uv)) *hit = HitRecord{t, i, uv}, tMax = t;
-  }
-  return hit->prim != HitRecord::kNoHit;
-}
 
 std::vector<Aabb> RandomBoxes(int n, uint32_t seed) {
   std::mt19937 rng(seed);

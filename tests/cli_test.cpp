@@ -130,6 +130,11 @@ TEST(CliParse, EnumValues) {
   EXPECT_EQ(with("--integrator", "mis").integrator, IntegratorMode::kMis);
   EXPECT_EQ(with("--integrator", "bsdf").integrator, IntegratorMode::kBsdf);
   EXPECT_EQ(with("--integrator", "nee").integrator, IntegratorMode::kNee);
+  EXPECT_FALSE(with("--bvh", "auto").bvhLayout.has_value());
+  EXPECT_EQ(with("--bvh", "binary").bvhLayout, BvhLayout::kBinary);
+  EXPECT_EQ(with("--bvh", "wide").bvhLayout, BvhLayout::kWide);
+  EXPECT_EQ(with("--bvh-build", "sah").bvhBuilder, BvhBuilder::kSah);
+  EXPECT_EQ(with("--bvh-build", "sbvh").bvhBuilder, BvhBuilder::kSbvh);
   EXPECT_EQ(with("--rr-depth", "off").rrDepth, kRussianRouletteOff);
   EXPECT_EQ(with("--rr-depth", "0").rrDepth, 0);
 }
@@ -178,6 +183,8 @@ TEST(CliParse, BadCommandLines) {
       {{"s.json", "-o", "o.png", "--compact", "yes"}, "bad value for --compact"},
       {{"s.json", "-o", "o.png", "--sort", "random"}, "bad value for --sort"},
       {{"s.json", "-o", "o.png", "--integrator", "bdpt"}, "bad value for --integrator"},
+      {{"s.json", "-o", "o.png", "--bvh", "quad"}, "bad value for --bvh"},
+      {{"s.json", "-o", "o.png", "--bvh-build", "lbvh"}, "bad value for --bvh-build"},
       {{"s.json", "-o", "o.png", "--quiet=yes"}, "--quiet takes no value"},
       {{"-o", "o.png"}, "missing the scene file"},
       {{"s.json"}, "missing -o"},

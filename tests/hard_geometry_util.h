@@ -61,7 +61,8 @@ struct ShapeScene {
 };
 
 inline ShapeScene BuildShapes(std::vector<Triangle> tris, std::vector<Quad> quads = {},
-                       std::vector<Sphere> spheres = {}) {
+                              std::vector<Sphere> spheres = {},
+                              const BvhBuildOptions& options = LayoutOptions()) {
   SceneDesc d;
   d.render.width = d.render.height = 1;
   d.render.spp = 1;
@@ -76,7 +77,7 @@ inline ShapeScene BuildShapes(std::vector<Triangle> tris, std::vector<Quad> quad
   d.quads = std::move(quads);
   d.sphereMaterials.assign(spheres.size(), 0);
   d.spheres = std::move(spheres);
-  ShapeScene s{BuildScene(std::move(d), LayoutOptions()), {}};
+  ShapeScene s{BuildScene(std::move(d), options), {}};
   s.view = HostSceneView(s.scene);
   return s;
 }

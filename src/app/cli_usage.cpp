@@ -37,6 +37,9 @@ Backend and performance
                            the GPU runs out of memory
   --compact on|off|auto    stream compaction of finished paths (default auto)
   --sort off|material|auto order live paths by material before shading (default auto)
+  --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = the faster
+                           one measured (wide, on the CPU and the GPU; default auto)
+  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = wide on the
                            GPU, binary on the CPU (the faster on each; default auto)

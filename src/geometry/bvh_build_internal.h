@@ -106,6 +106,7 @@ struct Task {
   uint32_t begin = 0, end = 0;  // SAH: range in the shared array
   Aabb bounds, centroidBounds;
   int depth = 0;
+  double budget = 0.0;              // SBVH: duplicate references this subtree may still add
   std::vector<TaskNode> nodes;      // [0] is the subtree's root
   std::vector<uint32_t> leafPrims;  // input indices, leaf by leaf
 };

@@ -1,0 +1,19 @@
+// The reference every BVH test compares with: all primitives tested in index order.
+#pragma once
+
+#include "src/geometry/shapes.h"
+
+namespace pt::test {
+
+// Nearest primitive with 0 < t < tMax over s.prims, by brute force (ties: the lowest index).
+inline bool BruteForceClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit) {
+  hit->prim = HitRecord::kNoHit;
+  for (uint32_t i = 0; i < s.primCount; ++i) {
+    float t;
+    vec2 uv;
+    if (IntersectPrim(s, i, ray, tMax, &t, &uv)) *hit = HitRecord{t, i, uv}, tMax = t;
+  }
+  return hit->prim != HitRecord::kNoHit;
+}
+
+}  // namespace pt::test
