@@ -11,20 +11,6 @@
 namespace pt::test {
 namespace {
 
-std::vector<double> Blocks(const FilmImage& img) {
-  std::vector<double> blocks;
-  for (int by = 0; by + 8 <= img.height; by += 8)
-    for (int bx = 0; bx + 8 <= img.width; bx += 8) {
-      double sum = 0.0;
-      for (int y = by; y < by + 8; ++y)
-        for (int x = bx; x < bx + 8; ++x) {
-          const float* p = &img.rgb[3 * (size_t(y) * img.width + x)];
-          sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        }
-      blocks.push_back(sum / 64.0);
-    }
-  return blocks;
-}
 
 TEST(InstancingGpu, InstancedSceneAgreesWithTheCpu) {
   if (CudaDeviceCount() == 0) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
@@ -39,18 +25,13 @@ TEST(InstancingGpu, InstancedSceneAgreesWithTheCpu) {
       desc.render.width = desc.render.height = 64;
       desc.render.spp = 16;
       desc.render.seed = 1000 + k;
-      cpu.push_back(Blocks(RenderOnCpu(BuildScene(desc, options)).image));
+      cpu.push_back(BlockLuminance(RenderOnCpu(BuildScene(desc, options)).image));
       desc.render.seed = 2000 + k;
       RenderResult r = RenderCuda(BuildScene(desc, options), RenderOptions{});
       EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
-      gpu.push_back(Blocks(r.image));
+      gpu.push_back(BlockLuminance(r.image));
     }
-    int blocks = int(cpu[0].size()), failing = 0;
-    for (int i = 0; i < blocks; ++i) {
-      std::vector<double> x, y;
-      for (int k = 0; k < kSeeds; ++k) x.push_back(cpu[k][i]), y.push_back(gpu[k][i]);
-      if (WelchPValue(x, y) < kBlockAlpha) ++failing;
-    }
+    int blocks = int(cpu[0].size()), failing = FailingBlocks(cpu, gpu, kBlockAlpha);
     EXPECT_LE(failing, BinomialUpperBound(blocks, kBlockAlpha, 1e-3))
         << BvhLayoutName(layout) << ": " << failing << " of " << blocks << " blocks differ";
   }

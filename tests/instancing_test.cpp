@@ -77,21 +77,6 @@ TEST(Instancing, IdentityPlacementsRenderBitForBitAsTheFlattenedScene) {
   }
 }
 
-// Mean Rec. 709 luminance of each 8x8 block.
-std::vector<double> BlockLuminance(const FilmImage& img) {
-  std::vector<double> blocks;
-  for (int by = 0; by + 8 <= img.height; by += 8)
-    for (int bx = 0; bx + 8 <= img.width; bx += 8) {
-      double sum = 0.0;
-      for (int y = by; y < by + 8; ++y)
-        for (int x = bx; x < bx + 8; ++x) {
-          const float* p = &img.rgb[3 * (size_t(y) * img.width + x)];
-          sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        }
-      blocks.push_back(sum / 64.0);
-    }
-  return blocks;
-}
 
 // Failing 8x8 blocks (Welch's t at the 1% level) between two renderers over kSeeds seeds each,
 // and the count a Binomial(blocks, 0.01) exceeds with probability 1e-3.
@@ -104,12 +89,7 @@ void ExpectBlocksAgree(RenderA renderA, RenderB renderB, const std::string& what
     a.push_back(BlockLuminance(renderA(100 + k)));
     b.push_back(BlockLuminance(renderB(200 + k)));
   }
-  int blocks = int(a[0].size()), failing = 0;
-  for (int i = 0; i < blocks; ++i) {
-    std::vector<double> x, y;
-    for (int k = 0; k < kSeeds; ++k) x.push_back(a[k][i]), y.push_back(b[k][i]);
-    if (WelchPValue(x, y) < kBlockAlpha) ++failing;
-  }
+  int blocks = int(a[0].size()), failing = FailingBlocks(a, b, kBlockAlpha);
   EXPECT_LE(failing, BinomialUpperBound(blocks, kBlockAlpha, 1e-3))
       << what << ": " << failing << " of " << blocks << " blocks differ at the 1% level";
 }
