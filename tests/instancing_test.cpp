@@ -222,6 +222,28 @@ TEST(Instancing, BadMovesAreRefused) {
   EXPECT_THROW(UpdateInstanceTransform(scene, 0, nan), std::invalid_argument);
 }
 
+// An emissive placement's lights carry its world-space area: scaled by 2 in every direction it
+// emits 4 times the power, by (1, 3, 1) a power between 1 and 3 times (areas of faces that are
+// not perpendicular to y grow by up to 3).
+TEST(Instancing, EmissiveInstancesEmitByTheirWorldArea) {
+  auto instancePower = [](const std::string& transform) {
+    Scene scene = BuildScene(Load(InstancedScene(
+        R"(, {"type": "instance", "mesh": "small", "material": "lamp", "transform": )" +
+            transform + "}", 16, 1)));
+    double power = 0.0;
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+      if (scene.lights[i].instance >= 0) power += scene.lightPower[i];
+    return power;
+  };
+  double one = instancePower(R"({"scale": [1, 1, 1]})");
+  ASSERT_GT(one, 0.0);
+  EXPECT_NEAR(instancePower(R"({"scale": [2, 2, 2], "rotate": [0, 40, 0]})") / one, 4.0, 1e-5);
+  EXPECT_NEAR(instancePower(R"({"scale": [-2, 2, 2]})") / one, 4.0, 1e-5);
+  double stretched = instancePower(R"({"scale": [1, 3, 1]})") / one;
+  EXPECT_GT(stretched, 1.2);
+  EXPECT_LT(stretched, 3.0);
+}
+
 // Flat scenes pay nothing: no instance table, no top level, the single-level query.
 TEST(Instancing, FlatScenesHaveNoTopLevel) {
   Scene scene = BuildScene(Load(InstancedScene("", 16, 1)));
