@@ -15,7 +15,11 @@ using Json = nlohmann::ordered_json;
 double Mean(uint64_t total, uint64_t count) { return count ? double(total) / count : 0.0; }
 
 Json SceneJson(const Scene& scene) {
+  // With instances, "triangles" are those stored (each mesh once), "placed_triangles" those
+  // the instances place in the world.
   return Json{{"triangles", scene.TriangleCount()},
+              {"placed_triangles", scene.PlacedTriangleCount()},
+              {"instances", scene.desc.instances.size()},
               {"primitives", scene.PrimitiveCount()},
               {"lights", scene.lights.size()},
               {"effects", SceneEffectNames(scene)}};
