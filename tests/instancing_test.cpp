@@ -11,6 +11,7 @@
 
 #include "src/geometry/instance.h"
 #include "src/geometry/traverse.h"
+#include "src/integrator/render_session.h"
 #include "src/scene/instances.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -208,6 +209,26 @@ TEST(Instancing, MovingAnInstanceAndRebuildingTheTopLevelEqualsAFreshBuild) {
     EXPECT_TRUE(BitIdentical(RenderOnCpu(moved).image.rgb, RenderOnCpu(fresh).image.rgb))
         << BvhLayoutName(layout);
   }
+}
+
+// A live session (what the preview server holds): the scene's top level rebuilt after a move,
+// TopLevelChanged re-reads only that; the next film is the fresh moved scene's, bit for bit.
+TEST(Instancing, ASessionSeesTheMovedInstancesAfterTopLevelChanged) {
+  SceneDesc desc = Load(InstancedScene(kGeneralPlacements, 32, 4));
+  Scene scene = BuildScene(desc);
+  RenderOptions options;
+  options.threads = 2;
+  auto session = MakeCpuSession(scene, options);
+  FilmImage before = session->Render().image;
+  glm::dmat4 to = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0.8, 0.2));
+  UpdateInstanceTransform(scene, 3, to);  // an emissive one: the light choice changes too
+  RebuildTopLevel(scene);
+  session->TopLevelChanged();
+  session->ResetFilm();
+  FilmImage after = session->Render().image;
+  desc.instances[3].toWorld = to;
+  EXPECT_TRUE(BitIdentical(after.rgb, RenderOnCpu(BuildScene(desc)).image.rgb));
+  EXPECT_FALSE(BitIdentical(after.rgb, before.rgb));
 }
 
 TEST(Instancing, BadMovesAreRefused) {
