@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "src/integrator/film.h"
@@ -179,15 +180,21 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its material as the sort key.
   void IntersectClosest(uint32_t n) {
+    ForTraversal([&](auto layout, auto instanced) {
+      IntersectLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    });
+  }
+
+  // Calls f(layout, instanced) with the scene's traversal variant as std::integral_constant
+  // values: each variant is a kernel of its own, and a flat scene runs the single-level one.
+  template <typename F>
+  void ForTraversal(F f) {
+    using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
+    using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
     const SceneView& v = sceneBuffers_.view;
-    bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
-    if (instanced) {
-      if (wide) IntersectLayout<BvhLayout::kWide, true>(n);
-      else IntersectLayout<BvhLayout::kBinary, true>(n);
-    } else {
-      if (wide) IntersectLayout<BvhLayout::kWide, false>(n);
-      else IntersectLayout<BvhLayout::kBinary, false>(n);
-    }
+    bool wide = v.bvhLayout == BvhLayout::kWide;
+    if (v.instanceCount != 0) wide ? f(Wide{}, std::true_type{}) : f(Binary{}, std::true_type{});
+    else wide ? f(Wide{}, std::false_type{}) : f(Binary{}, std::false_type{});
   }
 
   template <BvhLayout L, bool kInstanced>
@@ -230,15 +237,9 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(uint32_t n) {
-    const SceneView& v = sceneBuffers_.view;
-    bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
-    if (instanced) {
-      if (wide) ShadowLayout<BvhLayout::kWide, true>(n);
-      else ShadowLayout<BvhLayout::kBinary, true>(n);
-    } else {
-      if (wide) ShadowLayout<BvhLayout::kWide, false>(n);
-      else ShadowLayout<BvhLayout::kBinary, false>(n);
-    }
+    ForTraversal([&](auto layout, auto instanced) {
+      ShadowLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    });
   }
 
   template <BvhLayout L, bool kInstanced>
