@@ -23,21 +23,6 @@ SceneDesc SmallScene(const std::string& file, int size, int spp, uint32_t seed) 
   return desc;
 }
 
-// Mean Rec. 709 luminance of each 8x8 block.
-std::vector<double> BlockLuminance(const FilmImage& img) {
-  std::vector<double> blocks;
-  for (int by = 0; by + 8 <= img.height; by += 8)
-    for (int bx = 0; bx + 8 <= img.width; bx += 8) {
-      double sum = 0.0;
-      for (int y = by; y < by + 8; ++y)
-        for (int x = bx; x < bx + 8; ++x) {
-          const float* p = &img.rgb[3 * (size_t(y) * img.width + x)];
-          sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        }
-      blocks.push_back(sum / 64.0);
-    }
-  return blocks;
-}
 
 TEST(BackendAgreementGpu, EveryProjectSceneAgreesWithCpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: the CPU/GPU agreement runs on a GPU machine";
@@ -52,15 +37,7 @@ TEST(BackendAgreementGpu, EveryProjectSceneAgreesWithCpu) {
       cpu.push_back(BlockLuminance(RenderOnCpu(a).image));
       gpu.push_back(BlockLuminance(RenderCuda(b, RenderOptions{}).image));
     }
-    int blocks = int(cpu[0].size()), failing = 0;
-    for (int i = 0; i < blocks; ++i) {
-      std::vector<double> x, y;
-      for (int k = 0; k < kSeeds; ++k) {
-        x.push_back(cpu[k][i]);
-        y.push_back(gpu[k][i]);
-      }
-      if (WelchPValue(x, y) < kBlockAlpha) ++failing;
-    }
+    int blocks = int(cpu[0].size()), failing = FailingBlocks(cpu, gpu, kBlockAlpha);
     // Under agreement, failing ~ Binomial(blocks, 0.01); the bound's tail is 1e-3 per scene.
     int bound = BinomialUpperBound(blocks, kBlockAlpha, 1e-3);
     EXPECT_LE(failing, bound) << entry.path().filename() << ": " << failing << " of " << blocks

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "src/io/scene_loader.h"
+#include "src/scene/instances.h"
 #include "tests/test_util.h"
 
 namespace pt {
@@ -61,14 +62,21 @@ TEST(SceneGltf, StripsFansSparseAndNodeTransforms) {
   std::string text = R"({"render": {"width": 1, "height": 1, "spp": 1, "max_depth": 1},
       "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov_y": 40},
       "materials": {}, "objects": [{"type": "mesh", "file": "m.gltf"}]})";
-  SceneDesc s = LoadSceneFromString(text, "gltf.json", dir);
-  // Per instance: strip 2 + fan 2 + non-indexed 1; the lines primitive is skipped.
+  SceneDesc loaded = LoadSceneFromString(text, "gltf.json", dir);
+  // Two nodes share the mesh: it is stored once (strip 2 + fan 2 + non-indexed 1; the lines
+  // primitive is skipped) and placed twice.
+  ASSERT_EQ(loaded.meshes.size(), 1u);
+  ASSERT_EQ(loaded.instances.size(), 2u);
+  EXPECT_EQ(loaded.meshes[0].triangleCount, 5u);
+  EXPECT_EQ(loaded.triangles.size(), 5u);
+  SceneDesc s = FlattenInstances(loaded);
   ASSERT_EQ(s.triangles.size(), 10u);
   for (size_t i = 0; i < s.triangles.size(); ++i) {
     const Triangle& t = s.triangles[i];
     bool mirrored = i >= 5;  // the second instance, scaled by -1 in x, then moved by +10
     vec3 n = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
-    EXPECT_NEAR(n.z, mirrored ? -1.0f : 1.0f, 1e-6f) << "triangle " << i;  // the winding flips
+    // glTF: a negative determinant makes clockwise faces front ones, so the front stays +z.
+    EXPECT_NEAR(n.z, 1.0f, 1e-6f) << "triangle " << i;
     for (vec3 p : {t.p0, t.p1, t.p2}) {
       EXPECT_GE(p.x, mirrored ? 9.0f : 10.0f);
       EXPECT_LE(p.x, mirrored ? 10.0f : 11.0f);

@@ -51,6 +51,22 @@ inline WindowMean MeanOverImage(const FilmImage& img, int c) {
   return MeanOverWindow(img, c, 0, 0, img.width, img.height);
 }
 
+// Mean Rec. 709 luminance of each 8x8 block (the unit per-block Welch tests compare).
+inline std::vector<double> BlockLuminance(const FilmImage& img) {
+  std::vector<double> blocks;
+  for (int by = 0; by + 8 <= img.height; by += 8)
+    for (int bx = 0; bx + 8 <= img.width; bx += 8) {
+      double sum = 0.0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x) {
+          const float* p = &img.rgb[3 * (size_t(y) * img.width + x)];
+          sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+      blocks.push_back(sum / 64.0);
+    }
+  return blocks;
+}
+
 // z with P(|Z| > z) = p, by bisection on erfc (for Bonferroni splits of a false-alarm budget).
 inline double TwoSidedNormalQuantile(double p) {
   double lo = 0.0, hi = 40.0;

@@ -66,4 +66,17 @@ inline int BinomialUpperBound(int n, double p, double alpha) {
   return n;
 }
 
+// Blocks (a[k][i]: seed k, block i) whose Welch p-value between a and b is below alpha.
+inline int FailingBlocks(const std::vector<std::vector<double>>& a,
+                         const std::vector<std::vector<double>>& b, double alpha) {
+  int failing = 0;
+  for (size_t i = 0; i < a[0].size(); ++i) {
+    std::vector<double> x, y;
+    for (size_t k = 0; k < a.size(); ++k) x.push_back(a[k][i]);
+    for (size_t k = 0; k < b.size(); ++k) y.push_back(b[k][i]);
+    if (WelchPValue(x, y) < alpha) ++failing;
+  }
+  return failing;
+}
+
 }  // namespace pt::test

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 BUILD="${1:-build}"
 rm -rf .device && mkdir -p .device/bin/lib .device/shared/assets .device/shared/peer-scenes
 cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
-for tool in make_mesh_glb make_sky; do
+for tool in make_mesh_glb make_sky instance_bench; do
   [ -f "$BUILD/$tool" ] && cp "$BUILD/$tool" .device/bin/
 done
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do

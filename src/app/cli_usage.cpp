@@ -51,6 +51,9 @@ Backend and performance
                            one measured (wide, on the CPU and the GPU; default auto)
   --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
+  --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = wide on the
+                           GPU, binary on the CPU (the faster on each; default auto)
+  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --film float|double      film accumulation precision (default float)
   --tri-test watertight|mt triangle test (default watertight)
   --ray-offset robust|EPS  ray origin offsets from error bounds, or a fixed epsilon

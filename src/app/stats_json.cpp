@@ -20,7 +20,11 @@ Json SceneJson(const Scene& scene) {
   // mip pyramids, 4 bytes a texel, plus their small descriptors.
   size_t textureBytes = d.texels.size() * sizeof(uint32_t) + d.textures.size() * sizeof(Texture) +
                         d.textureRefs.size() * sizeof(TextureRef);
+  // With instances, "triangles" are those stored (each mesh once), "placed_triangles" those
+  // the instances place in the world.
   return Json{{"triangles", scene.TriangleCount()},
+              {"placed_triangles", scene.PlacedTriangleCount()},
+              {"instances", scene.desc.instances.size()},
               {"primitives", scene.PrimitiveCount()},
               {"lights", scene.lights.size()},
               {"textures", d.textures.size()},

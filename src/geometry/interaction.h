@@ -6,11 +6,13 @@
 
 namespace pt {
 
-// Closest hit as stored in path state: 16 bytes.
+// Closest hit. Path state keeps t, prim and uv (16 bytes) and, in scenes with instances only,
+// the instance in an array of its own (src/integrator/path_state.h).
 struct HitRecord {
   float t;        // ray parameter (ray directions are unit length, so also distance)
   uint32_t prim;  // index into SceneView::prims; kNoHit when the ray escaped
   vec2 uv;        // triangle: barycentrics (b1, b2); quad: (s, t); sphere: unused
+  uint32_t instance = 0xffffffffu;  // SceneView::instances index; kNoInstance in flat scenes
 
   static constexpr uint32_t kNoHit = 0xffffffffu;
 };

@@ -7,6 +7,7 @@
 
 #include "src/core/ray.h"
 #include "src/geometry/aabb.h"
+#include "src/geometry/instance.h"
 #include "src/geometry/interaction.h"
 #include "src/geometry/triangle_mt.h"
 #include "src/materials/alpha.h"
@@ -290,10 +291,11 @@ PT_HDI void SphereSurface(const Sphere& sph, const Ray& ray, float t, SurfaceInt
 
 }  // namespace detail
 
-// The full surface at a hit found by IntersectClosest (hit.prim != kNoHit).
+// The surface at a hit (hit.prim != kNoHit) in the space of its primitive: world space in a flat
+// scene, the mesh's object space for an instance (MakeInteraction places it).
 // uv: triangle (b1, b2), quad (s, t), sphere (phi / 2pi, theta / pi) about +Y.
-PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
-                                          const HitRecord& hit) {
+PT_HDI SurfaceInteraction MakeObjectInteraction(const SceneView& s, const Ray& ray,
+                                                const HitRecord& hit) {
   PrimRef ref = s.prims[hit.prim];
   SurfaceInteraction si;
   si.uv = hit.uv;
@@ -311,6 +313,18 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
       break;
   }
   return si;  // texture coordinates: src/materials/surface_attributes.h
+}
+
+// The surface at any hit: on an instance, found in object space and then placed in the world
+// with the instance's material and the light of that placement's triangle.
+PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
+                                          const HitRecord& hit) {
+  SurfaceInteraction si = MakeObjectInteraction(s, ray, hit);
+  if (hit.instance == kNoInstance) return si;
+  const Instance& inst = s.instances[hit.instance];
+  si.light = InstanceLight(inst, si.light, s.prims[hit.prim].Index());
+  InstanceToWorld(inst, &si);
+  return si;
 }
 
 // ---- Bounds (conservative: rounding of computed corners is padded outwards) ----

@@ -13,6 +13,7 @@
 
 #include "src/geometry/shapes.h"
 #include "src/geometry/traverse_binary.h"
+#include "src/geometry/traverse_instanced.h"
 #include "src/geometry/traverse_wide.h"
 
 namespace pt {
@@ -94,9 +95,32 @@ PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
   return leaf.prim != HitRecord::kNoHit;
 }
 
-// The same in the layout the view names (a run-time choice; stages instantiate per layout).
+// The scene's query in layout L, over the two levels when kInstanced (a scene with instances)
+// or the one flat BVH otherwise: each a kernel variant of its own, so a flat scene runs exactly
+// the single-level code.
+template <BvhLayout L, bool kInstanced>
+PT_HDI bool SceneClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
+                         TraversalCounters* counters) {
+  if constexpr (kInstanced) return IntersectClosestInstanced<L>(s, ray, tMax, hit, counters);
+  else return IntersectClosestIn<L>(s, ray, tMax, hit, counters);
+}
+
+template <BvhLayout L, bool kInstanced>
+PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCounters* counters) {
+  if constexpr (kInstanced) return IntersectAnyInstanced<L>(s, ray, tMax, counters);
+  else return IntersectAnyIn<L>(s, ray, tMax, counters);
+}
+
+// The same in the layout and structure the view names (a run-time choice; stages instantiate
+// per variant).
 PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                              TraversalCounters* counters) {
+  hit->instance = kNoInstance;
+  if (s.instanceCount != 0) {
+    return s.bvhLayout == BvhLayout::kWide
+               ? IntersectClosestInstanced<BvhLayout::kWide>(s, ray, tMax, hit, counters)
+               : IntersectClosestInstanced<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
+  }
   return s.bvhLayout == BvhLayout::kWide
              ? IntersectClosestIn<BvhLayout::kWide>(s, ray, tMax, hit, counters)
              : IntersectClosestIn<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
@@ -104,6 +128,11 @@ PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, Hit
 
 PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
+  if (s.instanceCount != 0) {
+    return s.bvhLayout == BvhLayout::kWide
+               ? IntersectAnyInstanced<BvhLayout::kWide>(s, ray, tMax, counters)
+               : IntersectAnyInstanced<BvhLayout::kBinary>(s, ray, tMax, counters);
+  }
   return s.bvhLayout == BvhLayout::kWide
              ? IntersectAnyIn<BvhLayout::kWide>(s, ray, tMax, counters)
              : IntersectAnyIn<BvhLayout::kBinary>(s, ray, tMax, counters);

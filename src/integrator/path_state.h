@@ -7,6 +7,7 @@
 #include "src/core/atomic.h"
 #include "src/core/math.h"
 #include "src/geometry/interaction.h"
+#include "src/scene/instance_types.h"
 
 namespace pt {
 
@@ -24,6 +25,14 @@ PT_HDI uint32_t WithMedium(uint32_t flags, int32_t material) {
   return (flags & ((1u << kMediumShift) - 1)) | (uint32_t(material + 1) << kMediumShift);
 }
 
+// A HitRecord as path state keeps it (16 bytes): the instance, where there are instances, is
+// in PathState::hitInstance.
+struct PathHit {
+  float t;
+  uint32_t prim;
+  vec2 uv;
+};
+
 // Raw pointers to the arrays, captured by value in every stage.
 struct PathState {
   vec3* rayOrigin;
@@ -32,7 +41,7 @@ struct PathState {
   vec3* radiance;
   float* prevPdf;    // solid-angle pdf of the BSDF sample that made the current ray
   uint32_t* flags;
-  HitRecord* hit;
+  PathHit* hit;
   vec3* shadowOrigin;
   vec3* shadowDir;
   float* shadowTMax;
@@ -41,15 +50,31 @@ struct PathState {
   vec3* featureAlbedo;
   vec3* featureNormal;
   float* featureDepth;
+  // The hit's instance; allocated, written and read only in scenes with instances.
+  uint32_t* hitInstance;
 };
+
+// The hit as the intersect stage stores it: its instance only where the scene has instances, so
+// a flat scene moves no more bytes than before instancing existed.
+PT_HDI void StoreHit(PathState ps, uint32_t id, const HitRecord& hit, bool instanced) {
+  ps.hit[id] = PathHit{hit.t, hit.prim, hit.uv};
+  if (instanced) ps.hitInstance[id] = hit.instance;
+}
+
+PT_HDI HitRecord LoadHit(PathState ps, uint32_t id, bool instanced) {
+  PathHit h = ps.hit[id];
+  return HitRecord{h.t, h.prim, h.uv, instanced ? ps.hitInstance[id] : kNoInstance};
+}
 
 // Bytes per path of the optional feature buffers.
 constexpr size_t kFeatureBytes = 2 * sizeof(vec3) + sizeof(float);
 
-// Bytes per path of the arrays above plus the queue and sort key (one uint32 each).
+// Bytes per path of the arrays above plus the queue and sort key (one uint32 each), and of
+// hitInstance (scenes with instances only).
 constexpr size_t kPathStateBytes = 4 * sizeof(vec3) + sizeof(float) + sizeof(uint32_t) +
-                                   sizeof(HitRecord) + 3 * sizeof(vec3) + sizeof(float) +
+                                   sizeof(PathHit) + 3 * sizeof(vec3) + sizeof(float) +
                                    2 * sizeof(uint32_t);
+constexpr size_t kInstanceHitBytes = sizeof(uint32_t);
 
 // Integer statistics gathered by the stages.
 enum CounterId : uint32_t {

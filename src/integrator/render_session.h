@@ -40,6 +40,10 @@ class RenderSession {
   virtual void SetCamera(const Camera& camera) = 0;
   virtual void SetOptions(const RenderOptions& options) = 0;
   virtual void SceneChanged() = 0;
+  // Only instance transforms changed, and RebuildTopLevel (src/scene/instances.h) ran on the
+  // Scene: re-reads the top level alone (instances, top-level BVH, light probabilities), far
+  // cheaper than SceneChanged for a scene of large meshes.
+  virtual void TopLevelChanged() = 0;
 };
 
 // Sessions on each backend. The Scene must outlive the session. MakeCudaSession throws

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "src/integrator/film.h"
@@ -179,11 +180,24 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its material as the sort key.
   void IntersectClosest(uint32_t n) {
-    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) IntersectLayout<BvhLayout::kWide>(n);
-    else IntersectLayout<BvhLayout::kBinary>(n);
+    ForTraversal([&](auto layout, auto instanced) {
+      IntersectLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    });
   }
 
-  template <BvhLayout L>
+  // Calls f(layout, instanced) with the scene's traversal variant as std::integral_constant
+  // values: each variant is a kernel of its own, and a flat scene runs the single-level one.
+  template <typename F>
+  void ForTraversal(F f) {
+    using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
+    using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
+    const SceneView& v = sceneBuffers_.view;
+    bool wide = v.bvhLayout == BvhLayout::kWide;
+    if (v.instanceCount != 0) wide ? f(Wide{}, std::true_type{}) : f(Binary{}, std::true_type{});
+    else wide ? f(Wide{}, std::false_type{}) : f(Binary{}, std::false_type{});
+  }
+
+  template <BvhLayout L, bool kInstanced>
   void IntersectLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
@@ -191,7 +205,7 @@ class WavefrontIntegrator {
     uint32_t* keys = sort_ ? sortKeys_.Data() : nullptr;
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath<L>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
+      IntersectPath<L, kInstanced>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
     });
   }
 
@@ -231,18 +245,19 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(uint32_t n) {
-    if (sceneBuffers_.view.bvhLayout == BvhLayout::kWide) ShadowLayout<BvhLayout::kWide>(n);
-    else ShadowLayout<BvhLayout::kBinary>(n);
+    ForTraversal([&](auto layout, auto instanced) {
+      ShadowLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    });
   }
 
-  template <BvhLayout L>
+  template <BvhLayout L, bool kInstanced>
   void ShadowLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
-      TraceShadowRay<L>(scene, ps, queue[i], counters);
+      TraceShadowRay<L, kInstanced>(scene, ps, queue[i], counters);
     });
   }
 
@@ -284,6 +299,7 @@ class WavefrontIntegrator {
   }
   void ApplyOptions(const RenderOptions& options);
   void SceneChanged();
+  void TopLevelChanged();
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -327,7 +343,8 @@ class WavefrontIntegrator {
       shadowRadiance_;
   Buffer<float> prevPdf_, shadowTMax_;
   Buffer<uint32_t> flags_, queue_, sortKeys_;
-  Buffer<HitRecord> hit_;
+  Buffer<PathHit> hit_;
+  Buffer<uint32_t> hitInstance_;
   Buffer<vec3> featureAlbedo_, featureNormal_;
   Buffer<float> featureDepth_;
   PathState pathState_{};

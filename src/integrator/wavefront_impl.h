@@ -57,7 +57,18 @@ void WavefrontIntegrator<Backend>::SceneChanged() {
   Camera camera = sceneBuffers_.view.camera;  // a camera set on the session stays
   UploadScene(scene_, sceneBuffers_);
   sceneBuffers_.view.camera = camera;
+  if (scene_.HasInstances() && hitInstance_.Size() < queue_.Size()) {
+    hitInstance_.Resize(queue_.Size());
+    pathState_.hitInstance = hitInstance_.Data();
+  }
   ApplyOptions(options_);
+}
+
+// Instances were moved and RebuildTopLevel ran: only the top-level arrays travel again.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::TopLevelChanged() {
+  EnsureAllocated();
+  UploadTopLevel(scene_, sceneBuffers_);
 }
 
 template <typename Backend>
@@ -92,6 +103,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   queue_.Resize(n);
   sortKeys_.Resize(n);
   hit_.Resize(n);
+  hitInstance_.Resize(scene_.HasInstances() ? n : 0);
   // Feature buffers exist only when asked for: a render without them pays nothing.
   size_t features = params_.featureBuffers ? n : 0;
   featureAlbedo_.Resize(features);
@@ -101,10 +113,11 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          radiance_.Data(),       prevPdf_.Data(),       flags_.Data(),
                          hit_.Data(),            shadowOrigin_.Data(),  shadowDir_.Data(),
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
-                         featureNormal_.Data(),  featureDepth_.Data()};
+                         featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
   stats_.pathsInFlight = n;
   stats_.pathStateBytesPerPath = kPathStateBytes + backend_.SortScratchBytesPerPath(sort_) +
-                                 (params_.featureBuffers ? kFeatureBytes : 0);
+                                 (params_.featureBuffers ? kFeatureBytes : 0) +
+                                 (scene_.HasInstances() ? kInstanceHitBytes : 0);
 }
 
 template <typename Backend>

@@ -274,17 +274,37 @@ class GltfWalker {
   }
 
  private:
+  // A mesh that several nodes use is stored once and placed by each node's transform (an
+  // instance); a mesh used once is flattened into world space.
   void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
+    auto emit = [&] {
+      const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+      for (size_t i = 0; i < mesh.primitives.size(); ++i) {
+        try {
+          EmitPrimitive(mesh.primitives[i]);
+        } catch (const std::runtime_error& e) {  // name the part: the file may have hundreds
+          Malformed("meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(i) +
+                    "]: " + e.what());
+        }
+      }
+    };
+    if (sink_.InstancesAllowed() && MeshUses(meshIndex) > 1) {
+      sink_.PlaceInstance(meshIndex, toWorld, emit);
+      return;
+    }
     sink_.SetTransform(toWorld);
-    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
-    for (size_t i = 0; i < mesh.primitives.size(); ++i) {
-      try {
-        EmitPrimitive(mesh.primitives[i]);
-      } catch (const std::runtime_error& e) {  // name the part: the file may have hundreds
-        Malformed("meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(i) +
-                  "]: " + e.what());
+    emit();
+  }
+
+  // How many nodes name the mesh (counted once per model).
+  int MeshUses(int meshIndex) {
+    if (meshUses_.empty()) {
+      meshUses_.assign(model_.meshes.size(), 0);
+      for (const tinygltf::Node& n : model_.nodes) {
+        if (n.mesh >= 0 && size_t(n.mesh) < meshUses_.size()) ++meshUses_[n.mesh];
       }
     }
+    return meshUses_[meshIndex];
   }
 
   // An optional per-vertex attribute; its count must match the positions'.
@@ -359,6 +379,7 @@ class GltfWalker {
   MeshSink& sink_;
   GltfMaterialTable materials_;
   bool warnedMode_ = false;
+  std::vector<int> meshUses_;
 };
 
 }  // namespace
@@ -368,8 +389,14 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
   tinygltf::Model model = ReadModel(path, sink, images);
   CheckGltfRequiredExtensions(model);
   GltfWalker walker(model, images, sink);
+  int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();
+  int skipped = sink.SkippedSingularInstances() - skippedBefore;
+  if (skipped > 0) {
+    sink.Warn(std::to_string(skipped) + " node" + (skipped > 1 ? "s" : "") +
+              " with a singular transform (scale 0) not placed");
+  }
   return ReadGltfSceneContents(model, sink.ObjectToWorld());
 }
 

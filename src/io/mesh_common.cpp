@@ -6,6 +6,7 @@
 
 #include "src/materials/texture.h"
 #include "src/materials/texture_pyramid.h"
+#include "src/scene/instances.h"
 
 namespace pt {
 
@@ -41,6 +42,36 @@ MeshSink::MeshSink(SceneDesc& scene, const glm::dmat4& objectToWorld, int64_t ma
 void MeshSink::SetTransform(const glm::dmat4& toWorld) {
   toWorld_ = toWorld;
   normalMatrix_ = glm::transpose(glm::inverse(glm::dmat3(toWorld)));
+  mirrored_ = glm::determinant(glm::dmat3(toWorld)) < 0.0;
+}
+
+void MeshSink::PlaceInstance(int key, const glm::dmat4& toWorld,
+                             const std::function<void()>& emit) {
+  auto it = meshes_.find(key);
+  if (it == meshes_.end()) {
+    glm::dmat4 placing = toWorld_;
+    SetTransform(glm::dmat4(1.0));
+    uint32_t first = uint32_t(scene_.triangles.size());
+    emit();
+    uint32_t count = uint32_t(scene_.triangles.size()) - first;
+    SetTransform(placing);
+    int64_t mesh = -1;
+    if (count > 0) {
+      mesh = int64_t(scene_.meshes.size());
+      scene_.meshes.push_back(MeshDesc{label_ + " mesh " + std::to_string(key), first, count});
+    }
+    it = meshes_.emplace(key, mesh).first;
+  }
+  if (it->second < 0) return;
+  std::string why;
+  if (!ValidInstanceTransform(toWorld, &why)) {
+    ++skippedSingular_;
+    return;
+  }
+  InstanceDesc instance;
+  instance.mesh = uint32_t(it->second);
+  instance.toWorld = toWorld;
+  scene_.instances.push_back(instance);
 }
 
 namespace {
@@ -69,7 +100,38 @@ TriangleUvs FiniteUvs(const vec2* uvs) {
 
 }  // namespace
 
+namespace {
+
+// Vertices 1 and 2 of an optional per-vertex array swapped into `out` (null stays null).
+template <typename T>
+const T* Swapped12(const T* in, T out[3]) {
+  if (!in) return nullptr;
+  out[0] = in[0];
+  out[1] = in[2];
+  out[2] = in[1];
+  return out;
+}
+
+}  // namespace
+
+// Under a mirroring transform vertices 1 and 2 trade places (with their attributes), so the
+// world winding, and with it the front, stays the file's.
 bool MeshSink::Add(const vec3 p[3], const VertexAttributes& a, uint32_t material) {
+  if (!mirrored_) return AddInOrder(p, a, material);
+  vec3 q[3], n[3];
+  vec2 uv0[3], uv1[3];
+  vec4 t[3], c[3];
+  VertexAttributes swapped;
+  Swapped12(p, q);
+  swapped.normals = Swapped12(a.normals, n);
+  swapped.uvs = Swapped12(a.uvs, uv0);
+  swapped.uvs1 = Swapped12(a.uvs1, uv1);
+  swapped.tangents = Swapped12(a.tangents, t);
+  swapped.colors = Swapped12(a.colors, c);
+  return AddInOrder(q, swapped, material);
+}
+
+bool MeshSink::AddInOrder(const vec3 p[3], const VertexAttributes& a, uint32_t material) {
   vec3 w[3];
   for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
   if (IsDegenerateTriangle(w[0], w[1], w[2])) {

@@ -2,6 +2,8 @@
 // degenerate ones, and adding the file's materials to the scene.
 #pragma once
 
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -39,8 +41,21 @@ class MeshSink {
   uint32_t Override() const { return uint32_t(materialOverride_); }
   const glm::dmat4& ObjectToWorld() const { return objectToWorld_; }
 
-  // toWorld maps the mesh's coordinates to world space.
+  // toWorld maps the mesh's coordinates to world space. A mirroring one (negative determinant)
+  // swaps two vertices of every triangle, so the front stays the outside (glTF's rule).
   void SetTransform(const glm::dmat4& toWorld);
+
+  // Instancing. A file that places one of its meshes several times (glTF nodes sharing a mesh)
+  // stores it once: PlaceInstance(key, toWorld, emit) calls emit() the first time a key is
+  // placed, to Add the mesh's triangles in its own space, and adds an instance of it with
+  // toWorld (a singular toWorld - glTF's way to hide a node - places nothing, and is counted).
+  // Keys are the file's own mesh numbers. While a mesh of the scene's mesh table is loaded,
+  // instances cannot nest: DisallowInstances() makes the loader flatten reused meshes instead.
+  bool InstancesAllowed() const { return instancesAllowed_; }
+  void DisallowInstances() { instancesAllowed_ = false; }
+  void PlaceInstance(int key, const glm::dmat4& toWorld, const std::function<void()>& emit);
+  // Instances PlaceInstance skipped for a singular transform.
+  int SkippedSingularInstances() const { return skippedSingular_; }
   // Keeps each optional per-triangle array of SceneDesc (UVs, second UVs, tangents, colours)
   // parallel to the triangles once any triangle has that data (earlier and later triangles
   // without it get zeros; colours white). Positions and tangents are transformed by the
@@ -66,12 +81,18 @@ class MeshSink {
   void Warn(const std::string& message) { scene_.warnings.push_back(label_ + ": " + message); }
 
  private:
+  bool AddInOrder(const vec3 p[3], const VertexAttributes& attributes, uint32_t material);
+
   SceneDesc& scene_;
   glm::dmat4 objectToWorld_;
   int64_t materialOverride_;
   std::string label_;
   glm::dmat4 toWorld_{1.0};
   glm::dmat3 normalMatrix_{1.0};
+  bool mirrored_ = false;  // the transform mirrors: Add swaps vertices 1 and 2
+  bool instancesAllowed_ = true;
+  std::map<int, int64_t> meshes_;  // PlaceInstance key -> SceneDesc::meshes index, -1: empty
+  int skippedSingular_ = 0;
 };
 
 }  // namespace pt

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <unordered_map>
 
@@ -14,6 +15,7 @@
 #include "src/io/image_io.h"
 #include "src/io/model_scene.h"
 #include "src/io/scene_json.h"
+#include "src/scene/instances.h"
 #include "src/scene/transform.h"
 
 namespace pt {
@@ -27,6 +29,12 @@ constexpr int64_t kMaxSpp = int64_t(1) << 24;
 constexpr int64_t kMaxBounces = int64_t(1) << 16;
 constexpr int64_t kMaxSeed = 0xffffffffll;
 
+// An entry of the "meshes" table: its JSON, and its SceneDesc::meshes index once loaded.
+struct MeshEntry {
+  JsonObject json;
+  int64_t mesh = -1;
+};
+
 // Everything a parse step needs besides the JSON: the scene being filled and name lookups.
 struct LoadState {
   const std::string& file;
@@ -34,6 +42,7 @@ struct LoadState {
   SceneDesc& scene;
   std::unordered_map<std::string, uint32_t> materials;
   std::string skippedByFile;  // "a.glb (2), b.obj (1)" for the one degenerate-triangle warning
+  std::map<std::string, MeshEntry> meshTable;
 };
 
 AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
@@ -213,12 +222,10 @@ void ParseBox(const JsonObject& o, LoadState& state) {
   if (state.scene.quads.size() - before != 6) o.FailHere("the transformed box is degenerate");
 }
 
-void ParseMesh(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file"}, "a mesh");
+// The mesh file o's "file" names, resolved against the scene's folder: a supported format and
+// an existing file, or an error naming that field.
+fs::path ResolveMeshFile(const JsonObject& o, const LoadState& state) {
   std::string file = o.String("file");
-  int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
-  bool lightsFromFile = o.BoolOr("lights_from_file", true);
-  glm::mat4 m = ObjectTransform(o);
   if (!IsModelFile(file)) {
     o.Fail("file", "unsupported mesh format \"" + LowerExtension(file) + "\" in \"" + file +
                        "\" (expected .gltf, .glb or .obj)");
@@ -228,10 +235,17 @@ void ParseMesh(const JsonObject& o, LoadState& state) {
   if (!fs::is_regular_file(resolved, ec)) {
     o.Fail("file", "cannot open \"" + resolved.string() + "\": no such file");
   }
+  return resolved;
+}
+
+// Loads that file into the sink, with the file's own lights when lightsFromFile; errors name the
+// field.
+void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool lightsFromFile) {
+  fs::path resolved = ResolveMeshFile(o, state);
+  std::string file = o.String("file");
   SceneDesc& scene = state.scene;
   size_t trianglesBefore = scene.triangles.size();
   int skippedBefore = scene.skippedDegenerateTriangles;
-  MeshSink sink(scene, glm::dmat4(m), material, file);
   GltfSceneContents contents;
   try {
     contents = LoadModelFile(resolved.string(), sink);
@@ -249,6 +263,76 @@ void ParseMesh(const JsonObject& o, LoadState& state) {
   if (scene.triangles.size() == trianglesBefore) sink.Warn("the mesh has no triangles");
 }
 
+void ParseMesh(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file"}, "a mesh");
+  int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
+  bool lightsFromFile = o.BoolOr("lights_from_file", true);
+  MeshSink sink(state.scene, glm::dmat4(ObjectTransform(o)), material, o.String("file"));
+  LoadMeshFile(o, state, sink, lightsFromFile);
+}
+
+// ---- Instancing: the "meshes" table and "instance" objects ---------------------------------
+
+// Checks every entry of "meshes" (fields, file, material, transform) without loading it yet: a
+// mesh is loaded when first placed, and one never placed is not loaded at all.
+void ParseMeshTable(const JsonObject& root, LoadState& state) {
+  if (!root.Has("meshes")) return;
+  JsonValue all = root.Field("meshes");
+  JsonObject meshes(all);
+  for (const auto& item : all.Raw().items()) {
+    JsonObject m(JsonValue(item.value(), meshes.FieldPath(item.key()), state.file));
+    m.AllowOnly({"file", "material", "transform"}, "a mesh of the mesh table");
+    if (m.Has("material")) MaterialRef(m, state);
+    if (m.Has("transform")) ParseTransform(m.Object("transform"));
+    ResolveMeshFile(m, state);
+    state.meshTable.emplace(item.key(), MeshEntry{m, -1});
+  }
+}
+
+// The scene mesh of a table entry, loaded into its own space on first use.
+uint32_t TableMesh(const JsonObject& o, LoadState& state) {
+  std::string name = o.String("mesh");
+  auto it = state.meshTable.find(name);
+  if (it == state.meshTable.end()) {
+    std::string defined;
+    for (const auto& [key, entry] : state.meshTable) defined += (defined.empty() ? "" : ", ") + key;
+    o.Fail("mesh", "undefined mesh \"" + name + "\" (the top-level \"meshes\" defines: " +
+                       (defined.empty() ? "none" : defined) + ")");
+  }
+  MeshEntry& entry = it->second;
+  if (entry.mesh >= 0) return uint32_t(entry.mesh);
+  const JsonObject& m = entry.json;
+  SceneDesc& scene = state.scene;
+  int64_t material = m.Has("material") ? int64_t(MaterialRef(m, state)) : -1;
+  MeshSink sink(scene, glm::dmat4(ObjectTransform(m)), material, m.String("file"));
+  sink.DisallowInstances();  // two levels: a file's own reuse is flattened into the mesh
+  uint32_t first = uint32_t(scene.triangles.size());
+  LoadMeshFile(m, state, sink, /*lightsFromFile=*/false);  // one placement could not carry them
+  uint32_t count = uint32_t(scene.triangles.size()) - first;
+  if (count == 0) m.Fail("file", "\"" + m.String("file") + "\" has no triangles to place");
+  entry.mesh = int64_t(scene.meshes.size());
+  scene.meshes.push_back(MeshDesc{name, first, count});
+  return uint32_t(entry.mesh);
+}
+
+void ParseInstance(const JsonObject& o, LoadState& state) {
+  o.AllowOnly({"type", "mesh", "material", "transform"}, "an instance");
+  InstanceDesc instance;
+  instance.mesh = TableMesh(o, state);
+  instance.material = o.Has("material") ? int32_t(MaterialRef(o, state)) : -1;
+  instance.toWorld = glm::dmat4(ObjectTransform(o));
+  std::string why;
+  if (!ValidInstanceTransform(instance.toWorld, &why)) o.Fail("transform", why);
+  state.scene.instances.push_back(instance);
+}
+
+void WarnUnplacedMeshes(const LoadState& state) {
+  for (const auto& [name, entry] : state.meshTable) {
+    if (entry.mesh < 0)
+      state.scene.warnings.push_back(state.file + ": meshes." + name + " is never placed (not loaded)");
+  }
+}
+
 void ParseObjects(const JsonObject& root, LoadState& state) {
   JsonValue objects = root.Field("objects");
   size_t count = objects.ArraySize();
@@ -263,8 +347,11 @@ void ParseObjects(const JsonObject& root, LoadState& state) {
       ParseBox(o, state);
     } else if (type == "mesh") {
       ParseMesh(o, state);
+    } else if (type == "instance") {
+      ParseInstance(o, state);
     } else {
-      o.Fail("type", "unknown object type \"" + type + "\" (expected sphere, quad, box or mesh)");
+      o.Fail("type", "unknown object type \"" + type +
+                         "\" (expected sphere, quad, box, mesh or instance)");
     }
   }
 }
@@ -331,11 +418,11 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   JsonObject root(JsonValue(json, "", pathForMessages));
   CheckFormat(root);  // first: a later format may have fields this one does not know
   root.AllowOnly({"format", "render", "camera", "background", "environment", "materials",
-                  "objects", "lights"},
+                  "meshes", "objects", "lights"},
                  "the scene");
   SceneDesc scene;
   scene.path = pathForMessages;
-  LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}};
+  LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}, {}};
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {
@@ -354,7 +441,9 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
     ParseEnvironment(root.Object("environment"), state.baseDir, scene);
   }
   ParseMaterials(root, state);
+  ParseMeshTable(root, state);
   ParseObjects(root, state);
+  WarnUnplacedMeshes(state);
   ParseLights(root, state);
   if (scene.skippedDegenerateTriangles > 0) {
     scene.warnings.push_back("skipped " + std::to_string(scene.skippedDegenerateTriangles) +

@@ -8,6 +8,7 @@
 #include "src/core/sampling.h"
 #include "src/lights/env_map.h"
 #include "src/materials/emission.h"
+#include "src/geometry/instance.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -38,6 +39,12 @@ PT_HDI vec3 EmittedRadiance(const Material& m, vec3 ng, vec3 wo) {
   if (m.type != MaterialType::kEmissive && m.type != MaterialType::kGltfPbr) return vec3(0.0f);
   if (!m.twoSided && glm::dot(ng, wo) <= 0.0f) return vec3(0.0f);
   return m.radiance;
+}
+
+// An area light's triangle in world space (an instance's is transformed, wound to its front).
+PT_HDI Triangle LightTriangle(const SceneView& s, const Light& light, uint32_t index) {
+  if (light.instance < 0) return s.triangles[index];
+  return TriangleToWorld(s.instances[light.instance], s.triangles[index]);
 }
 
 // ---- Light choice ----
@@ -122,8 +129,8 @@ PT_HDI float AreaLightPdf(const SceneView& s, const Light& light, vec3 refP, vec
     case ShapeType::kQuad:
       return AreaToSolidAnglePdf(refP, pLight, nLight, QuadArea(s.quads[prim.Index()]), twoSided);
     case ShapeType::kTriangle:
-      return AreaToSolidAnglePdf(refP, pLight, nLight, TriangleArea(s.triangles[prim.Index()]),
-                                 twoSided);
+      return AreaToSolidAnglePdf(refP, pLight, nLight,
+                                 TriangleArea(LightTriangle(s, light, prim.Index())), twoSided);
     case ShapeType::kSphere: {
       const Sphere& sp = s.spheres[prim.Index()];
       SphereCone cone;
@@ -149,7 +156,7 @@ PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, v
       break;
     }
     case ShapeType::kTriangle: {
-      const Triangle& t = s.triangles[prim.Index()];
+      const Triangle t = LightTriangle(s, light, prim.Index());
       vec2 b = SampleUniformTriangle(u);
       *p = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
       *n = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));

@@ -5,6 +5,7 @@
 
 #include "src/lights/environment.h"
 #include "src/lights/light_sample.h"
+#include "src/scene/instances.h"
 
 namespace pt {
 
@@ -95,7 +96,8 @@ Light MakeSpotLight(const SpotLightDesc& desc) {
 double LightPower(const Scene& scene, const Light& light) {
   switch (light.type) {
     case LightType::kArea: {
-      double area = PrimArea(scene.desc, scene.prims[light.prim]);
+      double area = light.instance >= 0 ? InstanceLightArea(scene, light)
+                                        : PrimArea(scene.desc, scene.prims[light.prim]);
       double sides = light.twoSided ? 2.0 : 1.0;
       return double(Luminance(light.radiance)) * area * double(kPi) * sides;
     }
@@ -129,9 +131,13 @@ void BuildLightTable(Scene& scene) {
   // Area lights in the order of the shapes (tagIndex), not of the BVH's leaves, so the table
   // and every light choice are the same whatever the layout or builder; a shape that spatial
   // splits put in several leaves is one light, named by every copy.
+  // With instances, each placement's emitters come first (AppendInstanceLights), then the
+  // world-space primitives': the order of a scene whose instances FlattenInstances placed.
+  if (scene.HasInstances()) AppendInstanceLights(scene);
   std::vector<uint32_t> emitters;
-  std::vector<double> primScale(scene.prims.size(), 0.0);
-  for (size_t i = 0; i < scene.prims.size(); ++i) {
+  size_t worldPrims = scene.HasInstances() ? scene.worldPrimCount : scene.prims.size();
+  std::vector<double> primScale(worldPrims, 0.0);
+  for (size_t i = 0; i < worldPrims; ++i) {
     PrimRef& prim = scene.prims[i];
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
@@ -142,7 +148,8 @@ void BuildLightTable(Scene& scene) {
   std::stable_sort(emitters.begin(), emitters.end(), [&](uint32_t a, uint32_t b) {
     return scene.prims[a].tagIndex < scene.prims[b].tagIndex;
   });
-  std::vector<double> emissionScale;  // per area light, for its power
+  std::vector<double> emissionScale;  // per world area light, for its power
+  const size_t firstWorldLight = scene.lights.size();  // after the instances' lights
   for (size_t k = 0; k < emitters.size(); ++k) {
     PrimRef& prim = scene.prims[emitters[k]];
     if (k > 0 && prim.tagIndex == scene.prims[emitters[k - 1]].tagIndex) {
@@ -188,13 +195,24 @@ void BuildLightTable(Scene& scene) {
     scene.env.light = int32_t(scene.lights.size());
     scene.lights.push_back(light);
   }
-  std::vector<double> power;
-  power.reserve(scene.lights.size());
-  for (size_t i = 0; i < scene.lights.size(); ++i) {
-    double scale = i < emissionScale.size() ? emissionScale[i] : 1.0;  // area lights come first
-    power.push_back(LightPower(scene, scene.lights[i]) * scale);
+  scene.lightPower.clear();
+  UpdateLightPowers(scene, 0, scene.lights.size());
+  for (size_t k = 0; k < emissionScale.size(); ++k) scene.lightPower[firstWorldLight + k] *= emissionScale[k];
+  UpdateLightDistribution(scene);
+}
+
+void UpdateLightPowers(Scene& scene, size_t first, size_t end) {
+  scene.lightPower.resize(scene.lights.size(), 0.0);
+  for (size_t i = first; i < end; ++i) scene.lightPower[i] = LightPower(scene, scene.lights[i]);
+}
+
+void UpdateLightDistribution(Scene& scene) {
+  // The powers of the lights at infinity follow the bounding sphere, which moving instances
+  // changes.
+  for (int32_t light : {scene.backgroundLight, scene.env.light}) {
+    if (light >= 0) UpdateLightPowers(scene, size_t(light), size_t(light) + 1);
   }
-  FillDistribution(power, scene);
+  FillDistribution(scene.lightPower, scene);
 }
 
 }  // namespace pt

@@ -11,32 +11,32 @@
 #include "src/geometry/shapes.h"
 #include "src/lights/light_table.h"
 #include "src/scene/auto_camera.h"
+#include "src/scene/instances.h"
 #include "src/scene/scene.h"
+#include "src/scene/scene_bvh.h"
 
 namespace pt {
-namespace {
 
-// Whether hits on a material's primitives need its verdict (src/materials/alpha.h).
 bool NeedsHitTest(const Material& m) {
   return (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend | kMaterialCullBack)) != 0;
 }
 
-// Every shape as an unordered PrimRef with its bounds.
-void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vector<Aabb>& bounds) {
+void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vector<Aabb>& bounds,
+                       const std::vector<bool>& skipTriangle) {
   auto add = [&](ShapeType type, uint32_t index, uint32_t material, const Aabb& box) {
     bool test = material < d.materials.size() && NeedsHitTest(d.materials[material]);
     prims.push_back(PrimRef{PrimRef::Pack(type, index, test), material, -1});
     bounds.push_back(box);
   };
-  for (uint32_t i = 0; i < d.triangles.size(); ++i)
+  for (uint32_t i = 0; i < d.triangles.size(); ++i) {
+    if (i < skipTriangle.size() && skipTriangle[i]) continue;
     add(ShapeType::kTriangle, i, d.triangleMaterials[i], TriangleBounds(d.triangles[i]));
+  }
   for (uint32_t i = 0; i < d.quads.size(); ++i)
     add(ShapeType::kQuad, i, d.quadMaterials[i], QuadBounds(d.quads[i]));
   for (uint32_t i = 0; i < d.spheres.size(); ++i)
     add(ShapeType::kSphere, i, d.sphereMaterials[i], SphereBounds(d.spheres[i]));
 }
-
-}  // namespace
 
 Camera MakeCamera(const CameraDesc& desc, int width, int height) {
   Camera c;
@@ -113,31 +113,29 @@ PrimClipper MakeClipper(const SceneDesc& d, const std::vector<PrimRef>& prims,
 const char* BvhBuilderName(BvhBuilder b) { return b == BvhBuilder::kSbvh ? "sbvh" : "sah"; }
 const char* BvhLayoutName(BvhLayout l) { return l == BvhLayout::kWide ? "wide" : "binary"; }
 
-namespace {
-
-// The BVH over `bounds` in the layout asked for; the primitive order of its leaves.
-std::vector<uint32_t> BuildSceneBvh(Scene& scene, const std::vector<PrimRef>& unordered,
-                                    const std::vector<Aabb>& bounds,
-                                    const BvhBuildOptions& options) {
+LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unordered,
+                         const std::vector<Aabb>& bounds, const BvhBuildOptions& options) {
   PrimClipper clip;
-  if (options.builder == BvhBuilder::kSbvh) clip = MakeClipper(scene.desc, unordered, bounds);
-  scene.bvhLayout = options.layout;
+  if (options.builder == BvhBuilder::kSbvh) clip = MakeClipper(d, unordered, bounds);
+  LayoutBvh out;
   if (options.layout == BvhLayout::kWide) {
     // A full binary tree: the collapse chooses the leaves (of at most 3 primitives) itself.
     BvhBuildOptions binary = options;
     binary.maxLeafSize = 1;
     BvhBuildResult bvh = BuildBvh(bounds, binary, kBvhMaxDepth, clip);
     WideBvhResult wide = CollapseToWide(bvh, bounds);
-    scene.wideNodes = std::move(wide.nodes);
-    scene.bvhSahCost = wide.sahCost;
-    scene.bvhDepth = wide.maxDepth;
-    return std::move(wide.primOrder);
+    out.wideNodes = std::move(wide.nodes);
+    out.sahCost = wide.sahCost;
+    out.depth = wide.maxDepth;
+    out.order = std::move(wide.primOrder);
+    return out;
   }
   BvhBuildResult bvh = BuildBvh(bounds, options, kBvhMaxDepth, clip);
-  scene.nodes = std::move(bvh.nodes);
-  scene.bvhSahCost = BinarySahCost(scene.nodes);
-  scene.bvhDepth = bvh.maxDepth;
-  return std::move(bvh.primOrder);
+  out.nodes = std::move(bvh.nodes);
+  out.sahCost = BinarySahCost(out.nodes);
+  out.depth = bvh.maxDepth;
+  out.order = std::move(bvh.primOrder);
+  return out;
 }
 
 void PackTriangles(Scene& scene) {
@@ -157,6 +155,38 @@ void PackTriangles(Scene& scene) {
   }
 }
 
+namespace {
+
+// The flat scene (no instances): one BVH over every primitive. Returns the world's bounds.
+Aabb BuildFlatScene(Scene& scene, const BvhBuildOptions& options) {
+  const SceneDesc& d = scene.desc;
+  std::vector<PrimRef> unordered;
+  std::vector<Aabb> bounds;
+  CollectPrimitives(d, unordered, bounds);
+  Aabb world;
+  for (const Aabb& b : bounds) world = Union(world, b);
+
+  auto t0 = std::chrono::steady_clock::now();
+  LayoutBvh bvh = BuildLayoutBvh(d, unordered, bounds, options);
+  scene.bvhBuildMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  scene.nodes = std::move(bvh.nodes);
+  scene.wideNodes = std::move(bvh.wideNodes);
+  scene.bvhSahCost = bvh.sahCost;
+  scene.bvhDepth = bvh.depth;
+  scene.prims.reserve(bvh.order.size());
+  for (uint32_t i : bvh.order) scene.prims.push_back(unordered[i]);
+  scene.worldPrimCount = uint32_t(scene.prims.size());
+  PackTriangles(scene);
+
+  if (!bounds.empty()) {
+    scene.sceneCenter = 0.5f * (world.lo + world.hi);
+    scene.sceneRadius = std::max(1e-6f, 0.5f * glm::length(world.hi - world.lo));
+  }
+  BuildLightTable(scene);
+  return world;
+}
+
 }  // namespace
 
 Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
@@ -165,30 +195,20 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
   const SceneDesc& d = scene.desc;
   if (d.triangleNormals.size() != d.triangles.size())
     throw std::runtime_error("internal: triangle normals do not match triangles");
-  std::vector<PrimRef> unordered;
-  std::vector<Aabb> bounds;
-  CollectPrimitives(d, unordered, bounds);
+  scene.bvhLayout = options.layout;
+  scene.bvhOptions = options;
   Aabb world;
-  for (const Aabb& b : bounds) world = Union(world, b);
+  if (!d.meshes.empty()) {  // instances: two levels (src/scene/instances.cpp)
+    BuildInstancedScene(scene);
+    world = InstancedWorldBounds(scene);
+  } else {
+    world = BuildFlatScene(scene, options);
+  }
   if (d.camera.autoFrame) {  // the image's size is final here (after command-line overrides)
     float aspect = float(d.render.width) / float(std::max(1, d.render.height));
     scene.desc.camera = FrameBounds(world.lo, world.hi, aspect, d.camera.fovY);
   }
   scene.camera = MakeCamera(d.camera, d.render.width, d.render.height);
-
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<uint32_t> order = BuildSceneBvh(scene, unordered, bounds, options);
-  scene.bvhBuildMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  scene.prims.reserve(order.size());
-  for (uint32_t i : order) scene.prims.push_back(unordered[i]);
-  PackTriangles(scene);
-
-  if (!bounds.empty()) {
-    scene.sceneCenter = 0.5f * (world.lo + world.hi);
-    scene.sceneRadius = std::max(1e-6f, 0.5f * glm::length(world.hi - world.lo));
-  }
-  BuildLightTable(scene);
   return scene;
 }
 
@@ -200,6 +220,8 @@ SceneView HostSceneView(const Scene& scene) {
   PT_SCENE_ARRAYS(PT_SCENE_ARRAY_HOST)
 #undef PT_SCENE_ARRAY_HOST
   v.nodeCount = scene.NodeCount();
+  v.instanceCount = uint32_t(scene.instances.size());
+  v.tlasNodeCount = scene.TlasNodeCount();
   v.bvhLayout = scene.bvhLayout;
   v.primCount = uint32_t(scene.prims.size());
   v.materialCount = uint32_t(d.materials.size());

@@ -9,6 +9,8 @@ uint32_t AnalyzeEffects(const Scene& scene) {
   std::vector<bool> used(d.materials.size(), false);
   for (const PrimRef& prim : scene.prims)
     if (prim.material < used.size()) used[prim.material] = true;
+  for (const InstanceDesc& inst : d.instances)  // an override is a material the scene shows
+    if (inst.material >= 0 && size_t(inst.material) < used.size()) used[inst.material] = true;
   uint32_t e = 0;
   const uint32_t kTypeEffect[] = {kEffectDiffuse,    kEffectEmissive, kEffectConductor,
                                   kEffectDielectric, kEffectPlastic,  kEffectGltfPbr};

@@ -98,6 +98,23 @@ struct EnvironmentDesc {
 };
 
 // Everything the loader hands over. Shapes are already in world space.
+// A mesh stored once for instances to place: a range of SceneDesc::triangles (with their
+// normals, UVs and materials) in the mesh's own object space.
+struct MeshDesc {
+  std::string name;  // for messages: "file.glb" or "file.glb mesh 3"
+  uint32_t firstTriangle = 0;
+  uint32_t triangleCount = 0;
+};
+
+// One placement of a mesh.
+struct InstanceDesc {
+  uint32_t mesh = 0;           // index into SceneDesc::meshes
+  glm::dmat4 toWorld{1.0};     // object -> world; affine and invertible
+  int32_t material = -1;       // every triangle's material, or -1 for the mesh's own
+};
+
+// Everything the loader hands over. Shapes are in world space, except the triangles of
+// `meshes`, which are in their mesh's object space and appear only where `instances` place them.
 struct SceneDesc {
   std::string path;  // the scene file, for messages
   RenderSettings render;
@@ -122,6 +139,8 @@ struct SceneDesc {
   std::vector<PointLightDesc> pointLights;
   std::vector<DirectionalLightDesc> directionalLights;
   std::vector<SpotLightDesc> spotLights;
+  std::vector<MeshDesc> meshes;          // empty in a flat scene
+  std::vector<InstanceDesc> instances;   // placements of meshes; at least one per mesh
   std::vector<Texture> textures;
   std::vector<TextureRef> textureRefs;  // Material texture slots index these
   std::vector<uint32_t> texels;  // RGBA8 pyramids of every texture, back to back
@@ -161,6 +180,7 @@ struct Scene {
   std::vector<uint32_t> distantLights;        // directional lights with a cone
   std::vector<float> envRowCdf, envColumnCdf;  // the map's sampling distribution
   EnvironmentView env;
+  std::vector<double> lightPower;  // host only: each light's power, what lightPmf follows
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;
@@ -168,11 +188,35 @@ struct Scene {
   double bvhSahCost = 0.0;  // of the layout in use (BinarySahCost / WideBvhResult::sahCost)
   int bvhDepth = 0;
 
+  // Instancing (all empty in a flat scene; src/scene/instances.h). With instances, nodes /
+  // wideNodes and prims hold one bottom level after another: the world-space primitives' (if
+  // any) first, then each mesh's.
+  struct MeshBvh {
+    uint32_t nodeOffset = 0, nodeCount = 0, primOffset = 0, primCount = 0;
+    vec3 lo = vec3(0.0f), hi = vec3(0.0f);  // object-space bounds of the mesh
+  };
+  std::vector<MeshBvh> meshBvhs;      // per desc.meshes entry, then the world's (if any)
+  std::vector<Instance> instances;    // per desc.instances entry, then the world's (if any)
+  std::vector<uint32_t> instanceOrder;  // instance of each top-level leaf slot
+  std::vector<BvhNode> tlasNodes;       // top level, binary layout
+  std::vector<WideBvhNode> tlasWideNodes;  // top level, wide layout
+  uint32_t worldPrimCount = 0;        // prims [0, worldPrimCount) are world-space primitives
+  BvhBuildOptions bvhOptions;         // as built, for RebuildTopLevel
+  double tlasBuildMs = 0.0;           // last top-level build
+
+  bool HasInstances() const { return !instances.empty(); }
+  // Triangles as placed in the world: each instance counts its mesh's triangles.
+  uint64_t PlacedTriangleCount() const;
+
   uint32_t NodeCount() const {
     return uint32_t(bvhLayout == BvhLayout::kWide ? wideNodes.size() : nodes.size());
   }
+  uint32_t TlasNodeCount() const {
+    return uint32_t(bvhLayout == BvhLayout::kWide ? tlasWideNodes.size() : tlasNodes.size());
+  }
   size_t NodeBytes() const {
-    return nodes.size() * sizeof(BvhNode) + wideNodes.size() * sizeof(WideBvhNode);
+    return nodes.size() * sizeof(BvhNode) + wideNodes.size() * sizeof(WideBvhNode) +
+           tlasNodes.size() * sizeof(BvhNode) + tlasWideNodes.size() * sizeof(WideBvhNode);
   }
 
   size_t TriangleCount() const { return desc.triangles.size(); }

@@ -165,6 +165,8 @@ struct Light {
   float spotScale = 0.0f;
   float spotOffset = 1.0f;
 
+  int32_t instance = -1;      // area: the placement of an instanced mesh's triangle, or -1
+
   PT_HDI bool IsDeltaDirection() const { return oneMinusCos <= 0.0f; }
   PT_HDI float SpotFalloff(float cosAxis) const {
     float t = cosAxis * spotScale + spotOffset;

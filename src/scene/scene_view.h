@@ -2,6 +2,7 @@
 // (host memory on the CPU backend, device memory on the GPU), captured by value in kernels.
 #pragma once
 
+#include "src/scene/instance_types.h"
 #include "src/scene/scene_types.h"
 
 namespace pt {
@@ -24,6 +25,11 @@ namespace pt {
   X(TriangleColors, triangleColors, s.desc.triangleColors) /* null unless COLOR_0 */        \
   X(Quad, quads, s.desc.quads)                                                              \
   X(Sphere, spheres, s.desc.spheres)                                                        \
+  /* Instancing (empty in flat scenes): the top level over instances; src/scene/instances.h */ \
+  X(Instance, instances, s.instances)                                                       \
+  X(uint32_t, instanceOrder, s.instanceOrder) /* instance of each top-level leaf slot */   \
+  X(BvhNode, tlasNodes, s.tlasNodes)          /* top level, binary layout */                \
+  X(WideBvhNode, tlasWideNodes, s.tlasWideNodes) /* top level, wide layout */              \
   /* Appearance and light. */                                                               \
   X(Material, materials, s.desc.materials)                                                  \
   X(Texture, textures, s.desc.textures)                                                     \
@@ -44,6 +50,8 @@ struct SceneView {
 #undef PT_SCENE_VIEW_FIELD
 
   uint32_t nodeCount = 0;  // of the layout in use
+  uint32_t instanceCount = 0;  // 0: a flat scene (one BVH over prims, nothing instanced)
+  uint32_t tlasNodeCount = 0;  // top-level nodes of the layout in use
   uint32_t primCount = 0;
   BvhLayout bvhLayout = BvhLayout::kBinary;
   uint32_t triangleTest = 0;  // 0: watertight (Woop et al.); 1: Moller-Trumbore (a study)

@@ -8,14 +8,17 @@
 
 namespace pt {
 
-// Misses sort after every material.
+// Misses sort after every material; an instance's override is the material it shades with.
 PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const HitRecord& hit) {
-  return hit.prim == HitRecord::kNoHit ? scene.materialCount : scene.prims[hit.prim].material;
+  if (hit.prim == HitRecord::kNoHit) return scene.materialCount;
+  if (hit.instance != kNoInstance && scene.instances[hit.instance].material >= 0)
+    return uint32_t(scene.instances[hit.instance].material);
+  return scene.prims[hit.prim].material;
 }
 
-// L is the scene's BVH layout (scene.bvhLayout): one kernel per layout, so neither pays for the
-// other's registers.
-template <BvhLayout L>
+// L is the scene's BVH layout (scene.bvhLayout), kInstanced whether it has instances (two
+// levels): one kernel per variant, so none pays for another's registers.
+template <BvhLayout L, bool kInstanced>
 PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t* sortKey,
                           Counter* counters) {
   if (!IsAlive(ps.flags[id])) {  // only without compaction do dead paths stay queued
@@ -28,8 +31,8 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   hit.t = kInfinity;
   hit.uv = vec2(0.0f);
   TraversalCounters tc;
-  IntersectClosestIn<L>(scene, ray, kInfinity, &hit, &tc);
-  ps.hit[id] = hit;
+  SceneClosest<L, kInstanced>(scene, ray, kInfinity, &hit, &tc);
+  StoreHit(ps, id, hit, kInstanced);
   if (sortKey) *sortKey = MaterialSortKey(scene, hit);
   if (counters) {
     AddToCounter(&counters[kCounterNodesVisited], tc.nodes);

@@ -171,7 +171,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   uint32_t flags = ps.flags[id];
   if (!IsAlive(flags)) return;
   uint32_t depth = DepthOf(flags);
-  HitRecord hit = ps.hit[id];
+  HitRecord hit = LoadHit(ps, id, scene.instanceCount != 0);
   Ray ray{ps.rayOrigin[id], ps.rayDir[id]};
   vec3 beta = ps.throughput[id];
   vec3 radiance = ps.radiance[id];
