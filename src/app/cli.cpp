@@ -138,6 +138,9 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--chunks", [](CliOptions& o, ValueSource& s) { o.chunks = ParseInt(s, 1, 1 << 20); }},
+      {"--rank-timeout",
+       [](CliOptions& o, ValueSource& s) { o.rankTimeoutSeconds = ParsePositiveSeconds(s); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
@@ -323,6 +326,10 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
   --preview-every SECONDS  rewrite the outputs as samples accumulate
   --crop X0 Y0 X1 Y1       render only this pixel window [X0,X1) x [Y0,Y1)
   --stats-json FILE        write render statistics as JSON
+  --chunks N               cut the samples into N chunks merged along a fixed tree: the
+                           image of `mpirun -np K pathtracer ... --chunks N` for any K
+                           (default 1; under mpirun 32, at most spp)
+  --rank-timeout SECONDS   under mpirun: give up on a rank silent this long (default 60)
   --quiet                  no progress bar (shown only when stderr is a terminal anyway)
   --help, --version
 
@@ -330,6 +337,10 @@ Not built yet (refused): --sort queues.
 
 Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
 3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).
+
+Under mpirun (a build with MPI): `mpirun -np N pathtracer SCENE.json -o OUT [options]` splits
+the samples over N processes, each on its own GPU (local rank mod GPUs) or CPU threads;
+rank 0 writes every output. See docs/distributed.md.
 )";
 }
 

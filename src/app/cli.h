@@ -44,6 +44,10 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  // Sample chunks merged along a fixed tree (src/distributed/); unset: 1 for one process, 32
+  // (at most spp) under mpirun. The image depends on it, never on the number of processes.
+  std::optional<int> chunks;
+  std::optional<double> rankTimeoutSeconds;  // under mpirun: a rank silent this long is lost
 
   bool quiet = false;
   bool help = false;

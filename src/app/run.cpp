@@ -11,19 +11,16 @@
 
 #include "src/app/cli.h"
 #include "src/app/progress.h"
+#include "src/app/run_steps.h"
 #include "src/app/stats_json.h"
+#include "src/distributed/chunked_render.h"
+#include "src/distributed/distributed.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/scene/effects.h"
 
 namespace pt {
-namespace {
-
-// A failure with its exit status; thrown by the steps below, caught once in RunApp.
-struct AppFailure {
-  int status;
-  std::string message;
-};
+namespace app {
 
 std::atomic<bool> gInterrupted{false};
 
@@ -184,7 +181,10 @@ RenderResult Render(const CliOptions& cli, const Scene& scene, SessionFactory ma
     };
   }
   try {
-    RenderResult result = makeSession(scene, options, callbacks)->Render();
+    RenderResult result =
+        cli.chunks.value_or(1) > 1
+            ? RenderChunked(makeSession, scene, options, callbacks, uint32_t(*cli.chunks))
+            : makeSession(scene, options, callbacks)->Render();
     progress.Finish();
     return result;
   } catch (const BackendUnavailable& e) {
@@ -228,6 +228,7 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   InstallSigintHandler();
   RenderOptions options =
       MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
+  CheckChunkOptions(cli, scene, options, false);
   RenderResult result = Render(cli, scene, makeSession, options);
   bool interrupted = gInterrupted.load();
   result.stats.interrupted = result.stats.interrupted || interrupted;
@@ -243,9 +244,14 @@ int Run(const CliOptions& cli, const AppBackends& backends) {
   return interrupted ? kExitInterrupted : kExitOk;
 }
 
-}  // namespace
+}  // namespace app
 
 int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
+  if (LauncherWorldSize() != 0) return RunMpiApp(argc, argv, backends);
+  return RunProcess(argc, argv, backends);
+}
+
+int RunProcess(int argc, const char* const* argv, const AppBackends& backends) {
   CliOptions cli;
   try {
     cli = ParseCli(argc, argv);
@@ -262,8 +268,8 @@ int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
     return kExitOk;
   }
   try {
-    return Run(cli, backends);
-  } catch (const AppFailure& failure) {
+    return app::Run(cli, backends);
+  } catch (const app::AppFailure& failure) {
     std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
     return failure.status;
   } catch (const std::bad_alloc&) {

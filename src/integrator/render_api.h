@@ -42,6 +42,7 @@ struct RenderOptions {
   bool specialize = true;            // stage variants specialised to the scene's effects
   TriangleTest triangleTest = TriangleTest::kWatertight;
   bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
+  int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.

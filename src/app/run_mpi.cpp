@@ -1,0 +1,324 @@
+// The program as one rank of an MPI job (`mpirun -np N pathtracer SCENE -o OUT ...`). Every
+// rank parses the command line, loads the scene and makes its render lanes; the ranks agree
+// on each step (one rank's failure ends all, with its message printed once, by rank 0);
+// RenderDistributed splits the samples; rank 0 writes every output and the statistics.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <new>
+#include <optional>
+#include <thread>
+
+#include "src/app/progress.h"
+#include "src/app/run_steps.h"
+#include "src/app/stats_json.h"
+#include "src/distributed/distributed.h"
+#include "src/distributed/fault_injection.h"
+#include "src/integrator/wave_plan.h"
+#include "src/io/image_io.h"
+
+namespace pt {
+namespace app {
+
+void CheckChunkOptions(const CliOptions& cli, const Scene& scene, const RenderOptions& options,
+                       bool distributed) {
+  if (cli.rankTimeoutSeconds && !MpiBuilt()) {
+    throw AppFailure{kExitBadCommandLine,
+                     "--rank-timeout: this build has no MPI support (no MPI library was found "
+                     "when it was configured)"};
+  }
+  if (!distributed && cli.chunks.value_or(1) <= 1) return;
+  int spp = scene.desc.render.spp;
+  if (cli.chunks && *cli.chunks > spp) {
+    throw AppFailure{kExitBadCommandLine, "--chunks " + std::to_string(*cli.chunks) +
+                                              " is more than the " + std::to_string(spp) +
+                                              " samples per pixel"};
+  }
+  std::string where = distributed ? " across MPI ranks" : " with --chunks";
+  auto refuse = [&](const std::string& what, const std::string& hint) {
+    throw AppFailure{kExitBadCommandLine, what + " is not supported" + where + " yet" + hint};
+  };
+  if (AdaptiveRequested(scene, options)) refuse("adaptive sampling", ": add --adaptive off");
+  if (!cli.referencePath.empty()) refuse("--reference", "");
+  if (cli.previewEverySeconds > 0.0) refuse("--preview-every", "");
+}
+
+}  // namespace app
+
+namespace {
+
+using app::AppFailure;
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::atomic<bool> gRankInterrupted{false};
+
+// First Ctrl-C or SIGTERM (mpirun sends SIGTERM to every rank when it is interrupted or a rank
+// died): stop between waves, hand the films on, rank 0 writes. A second Ctrl-C: die.
+extern "C" void OnRankSignal(int signal) {
+  if (gRankInterrupted.exchange(true) && signal == SIGINT) {
+    ::signal(SIGINT, SIG_DFL);
+    raise(SIGINT);
+  }
+}
+
+void InstallRankSignalHandlers() {
+  struct sigaction action = {};
+  action.sa_handler = OnRankSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// What a rank renders with.
+struct RankSetup {
+  std::optional<Scene> scene;
+  RenderOptions options;
+  SessionFactory factory = nullptr;
+  DistributedOptions distributed;
+  AppTimes times;
+};
+
+RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& backends) {
+  RankSetup s;
+  if (job.Rank() == 0) app::CheckOutputsWritable(cli);
+  s.scene.emplace(app::Build(app::LoadAndOverride(cli, &s.times.loadMs), &s.times.bvhBuildMs));
+  BackendKind backend = app::ChooseBackend(cli.backend, backends);
+  s.factory = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
+  s.options = app::MakeRenderOptions(cli, backend, nullptr);
+  app::CheckChunkOptions(cli, *s.scene, s.options, true);
+  s.options.timeLimitSeconds = 0.0;  // rank 0 keeps the time for the whole job
+  unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  unsigned coresPerRank = std::max(1u, cores / unsigned(job.LocalSize()));
+  DistributedOptions& d = s.distributed;
+  d.chunks = uint32_t(cli.chunks.value_or(std::min(32, s.scene->desc.render.spp)));
+  d.timeLimitSeconds = cli.timeLimitSeconds;
+  d.rankTimeoutSeconds = cli.rankTimeoutSeconds.value_or(60.0);
+  if (backend == BackendKind::kCuda) {
+    int gpus = backends.cudaDeviceCount();
+    s.options.device = job.LocalRank() % gpus;
+    // Two lanes share the GPU, so that one's film download overlaps the other's rendering;
+    // the host cores left over merge films.
+    d.lanes = 2;
+    d.mergeThreads = int(std::clamp(coresPerRank - 2, 1u, 8u));
+  } else {
+    if (cli.threads == 0) s.options.threads = int(coresPerRank);  // ranks of a host share it
+    d.lanes = 1;
+    d.mergeThreads = 1;
+  }
+  return s;
+}
+
+// FNV-1a of what the image depends on: every rank must render the same scene and settings.
+uint64_t Fingerprint(const Scene& scene, const RenderOptions& o, uint32_t chunks) {
+  const RenderSettings& r = scene.desc.render;
+  double geometry = 0.0;
+  for (const Triangle& t : scene.desc.triangles) geometry += double(t.p0.x) + double(t.p1.y) + double(t.p2.z);
+  std::string text = std::to_string(r.width) + " " + std::to_string(r.height) + " " +
+                     std::to_string(r.spp) + " " + std::to_string(r.maxDepth) + " " +
+                     std::to_string(r.seed) + " " + std::to_string(r.russianRouletteDepth) +
+                     " " + std::to_string(o.crop.x0) + " " + std::to_string(o.crop.y0) + " " +
+                     std::to_string(o.crop.x1) + " " + std::to_string(o.crop.y1) + " " +
+                     std::to_string(chunks) + " " + std::to_string(int(o.integrator)) + " " +
+                     std::to_string(int(o.lightPaths)) + " " + std::to_string(o.filmDouble) +
+                     " " + std::to_string(o.featureBuffers) + " " +
+                     std::to_string(o.rayOffsetEpsilon) + " " +
+                     std::to_string(int(o.triangleTest)) + " " +
+                     std::to_string(scene.TriangleCount()) + " " +
+                     std::to_string(scene.PrimitiveCount()) + " " +
+                     std::to_string(scene.lights.size()) + " " + std::to_string(geometry);
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+// The statistics of a distributed render: the one-process schema, with counters summed over
+// ranks and the render time the job's, plus an "mpi" section per rank.
+nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t chunks,
+                               double mpiInitMs, bool features) {
+  nlohmann::ordered_json perRank = nlohmann::ordered_json::array();
+  double lanesStartup = 0.0;
+  for (const RankReport& rank : r.ranks) {
+    perRank.push_back(nlohmann::ordered_json(RankReportToJson(rank)));
+    lanesStartup = std::max(lanesStartup, rank.startupMs);
+  }
+  return {{"ranks", ranks},
+          {"chunks", chunks},
+          {"leaves_rendered", r.leavesRendered},
+          {"render_ms", r.renderMs},
+          {"reduction_ms", r.reductionMs},
+          {"startup_ms", {{"mpi_init", mpiInitMs}, {"lanes", lanesStartup}}},
+          {"load_balance", LoadBalance(r.ranks)},
+          {"film_bytes_per_pixel", 60 + (features ? 28 : 0)},
+          {"interrupted", r.interrupted},
+          {"time_limited", r.timeLimited},
+          {"failure", r.failure},
+          {"per_rank", perRank}};
+}
+
+RenderStats SumOverRanks(const DistributedResult& r) {
+  RenderStats sum;
+  for (const RankReport& rank : r.ranks) {
+    AddRenderStats(sum, rank.stats);
+    if (sum.backend.empty()) sum.backend = rank.backend, sum.device = rank.device;
+    if (sum.backend != rank.backend) sum.backend = "mixed";
+  }
+  if (r.ranks.size() > 1) sum.device = std::to_string(r.ranks.size()) + " ranks, rank 0: " + sum.device;
+  sum.renderMs = r.renderMs;  // the job's wall time, as a rate's denominator
+  sum.samples = r.samples;
+  sum.interrupted = r.interrupted;
+  return sum;
+}
+
+void PrintRanks(const DistributedResult& r) {
+  for (const RankReport& rank : r.ranks) {
+    std::fprintf(stderr,
+                 "pathtracer: rank %d (%s, %s %s, %d lane%s): %d leaves, %.3g samples, "
+                 "finished at %.3f s%s%s\n",
+                 rank.rank, rank.host.c_str(), rank.backend.c_str(), rank.device.c_str(),
+                 rank.lanes, rank.lanes == 1 ? "" : "s", rank.leaves, double(rank.samples),
+                 rank.finishedMs / 1e3, rank.failure.empty() ? "" : "; failed: ",
+                 rank.failure.c_str());
+  }
+  std::fprintf(stderr, "pathtracer: render %.3f s (reduction %.1f ms), load balance %.3f\n",
+               r.renderMs / 1e3, r.reductionMs, LoadBalance(r.ranks));
+}
+
+// Rank 0 after the render: the image so far (if any sample arrived), statistics, summary.
+int FinishRoot(const CliOptions& cli, const RankSetup& s, const DistributedResult& r, int ranks,
+               double mpiInitMs) {
+  if (!r.failure.empty()) std::fprintf(stderr, "pathtracer: the render ended early: %s\n",
+                                       r.failure.c_str());
+  else if (r.interrupted) std::fprintf(stderr, "pathtracer: interrupted; writing the image so far\n");
+  if (r.samples == 0) {
+    std::fprintf(stderr, "pathtracer: no samples were rendered; nothing written\n");
+    return r.status != 0 ? r.status : kExitRuntimeFailure;
+  }
+  RenderResult result;
+  result.image = ResolveFilmImage(r.film);
+  result.stats = SumOverRanks(r);
+  uint64_t filmSamples = 0;
+  for (uint32_t c : result.image.samples) filmSamples += c;
+  result.stats.sppMean = double(filmSamples) / double(std::max<size_t>(1, r.film.PixelCount()));
+  try {
+    app::WriteOutputs(cli, result.image);
+    if (!cli.statsJsonPath.empty()) {
+      nlohmann::ordered_json doc = StatsToJson(result.stats, *s.scene, s.times);
+      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, mpiInitMs, s.options.featureBuffers);
+      WriteStatsJson(cli.statsJsonPath, doc);
+    }
+  } catch (const ImageError& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", e.what());
+    return kExitRuntimeFailure;
+  }
+  app::PrintSummary(result);
+  PrintRanks(r);
+  return r.status;
+}
+
+// Every rank's outcome of a step; all return the worst status, printed once by rank 0.
+std::optional<int> AgreeOn(MpiJob& job, int status, const std::string& message) {
+  auto [worst, text] = job.Agree(status, message);
+  if (worst == 0) return std::nullopt;
+  if (job.Rank() == 0) std::fprintf(stderr, "pathtracer: %s\n", text.c_str());
+  return worst;
+}
+
+int RunRanks(MpiJob& job, int argc, const char* const* argv, const AppBackends& backends,
+             double mpiInitMs) {
+  bool root = job.Rank() == 0;
+  CliOptions cli;
+  int status = 0;
+  std::string message;
+  try {
+    cli = ParseCli(argc, argv);
+  } catch (const CliError& e) {
+    status = kExitBadCommandLine;
+    message = std::string(e.what()) + " (see --help)";
+  }
+  if (std::optional<int> failed = AgreeOn(job, status, message)) return *failed;
+  if (cli.help || cli.version) {
+    if (root && cli.help) std::fputs(CliUsage().c_str(), stdout);
+    if (root && cli.version) std::printf("pathtracer %s\n", PT_VERSION);
+    return kExitOk;
+  }
+  RankSetup s;
+  try {
+    s = SetUp(job, cli, backends);
+  } catch (const AppFailure& f) {
+    status = f.status, message = f.message;
+  } catch (const std::bad_alloc&) {
+    status = kExitRuntimeFailure, message = "out of memory";
+  } catch (const std::exception& e) {
+    status = kExitRuntimeFailure, message = e.what();
+  }
+  if (std::optional<int> failed = AgreeOn(job, status, message)) return *failed;
+  std::vector<uint64_t> prints = job.AllGather(Fingerprint(*s.scene, s.options, s.distributed.chunks));
+  for (size_t r = 1; r < prints.size(); ++r) {
+    if (prints[r] == prints[0]) continue;
+    if (root) std::fprintf(stderr, "pathtracer: rank %zu's scene or settings differ from rank 0's "
+                                   "(every rank must render the same scene with the same options)\n", r);
+    return kExitBadCommandLine;
+  }
+  InstallRankSignalHandlers();
+  if (root) app::PrintEffects(*s.scene, cli.specialize);
+  ProgressBar progress(cli.quiet || !root);
+  auto onProgress = [&](uint64_t done, uint64_t total) { progress.Update(done, total); };
+  DistributedResult r;
+  try {
+    r = RenderDistributed(job, InjectFaults(s.factory, job.Rank()), *s.scene, s.options,
+                          s.distributed, onProgress, gRankInterrupted);
+  } catch (const std::exception& e) {
+    progress.Finish();
+    std::fprintf(stderr, "pathtracer: rank %d: %s; ending the job\n", job.Rank(), e.what());
+    job.Abort(kExitRuntimeFailure);
+  }
+  progress.Finish();
+  status = root ? FinishRoot(cli, s, r, job.Size(), mpiInitMs) : r.status;
+  if (root && r.rankLost) {
+    std::fprintf(stderr, "pathtracer: ending the job: a rank is not answering\n");
+    job.Abort(status);
+  }
+  return job.ShareExitStatus(status, gRankInterrupted);
+}
+
+}  // namespace
+
+int RunMpiApp(int argc, const char* const* argv, const AppBackends& backends) {
+  int announced = LauncherWorldSize();
+  if (!MpiBuilt()) {
+    if (announced == 1) return RunProcess(argc, argv, backends);
+    std::fprintf(stderr,
+                 "pathtracer: started by an MPI launcher%s, but this build has no MPI support "
+                 "(no MPI library was found when it was configured): install libopenmpi-dev and "
+                 "rebuild, or run a single process\n",
+                 announced > 1 ? (" with " + std::to_string(announced) + " processes").c_str()
+                               : "");
+    return kExitRuntimeFailure;
+  }
+  Clock::time_point t0 = Clock::now();
+  std::unique_ptr<MpiJob> job;
+  try {
+    job = MpiJob::Start();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", e.what());
+    return kExitRuntimeFailure;
+  }
+  // One rank is a plain run, bit for bit.
+  if (job->Size() == 1) return RunProcess(argc, argv, backends);
+  try {
+    return RunRanks(*job, argc, argv, backends, MsSince(t0));
+  } catch (const std::exception& e) {  // an MPI call failed during set-up
+    std::fprintf(stderr, "pathtracer: rank %d: %s; ending the job\n", job->Rank(), e.what());
+    job->Abort(kExitRuntimeFailure);
+  }
+  return kExitRuntimeFailure;  // not reached: Abort ends the process
+}
+
+}  // namespace pt
