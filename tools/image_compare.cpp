@@ -74,7 +74,8 @@ int main(int argc, char** argv) {
   bool ok = Report("rgb", Compare(a, b), maxRel);
   std::printf("%-10s %.3g\n", "relMSE", pt::RelMse(b, a));
   if (pt::IsExrPath(pathA) && pt::IsExrPath(pathB)) {
-    for (const char* channel : {"variance.R", "variance.G", "variance.B", "samples"}) {
+    for (const char* channel : {"variance.R", "variance.G", "variance.B", "samples", "albedo.R",
+                                "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "Z"}) {
       try {
         int w = 0, h = 0;
         ok = Report(channel, Compare(pt::ReadExrChannel(pathA, channel, &w, &h),

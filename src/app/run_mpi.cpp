@@ -158,7 +158,7 @@ nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t c
           {"film_bytes_per_pixel", 60 + (features ? 28 : 0)},
           {"interrupted", r.interrupted},
           {"time_limited", r.timeLimited},
-          {"failure", r.failure},
+          {"ended_early", r.why},
           {"per_rank", perRank}};
 }
 
@@ -193,13 +193,11 @@ void PrintRanks(const DistributedResult& r) {
 // Rank 0 after the render: the image so far (if any sample arrived), statistics, summary.
 int FinishRoot(const CliOptions& cli, const RankSetup& s, const DistributedResult& r, int ranks,
                double mpiInitMs) {
-  if (!r.failure.empty()) std::fprintf(stderr, "pathtracer: the render ended early: %s\n",
-                                       r.failure.c_str());
-  else if (r.interrupted) std::fprintf(stderr, "pathtracer: interrupted; writing the image so far\n");
-  if (r.samples == 0) {
-    std::fprintf(stderr, "pathtracer: no samples were rendered; nothing written\n");
-    return r.status != 0 ? r.status : kExitRuntimeFailure;
+  if (!r.why.empty()) {
+    std::fprintf(stderr, "pathtracer: the render ended early: %s; %s\n", r.why.c_str(),
+                 r.samples ? "writing the image so far" : "no samples, nothing written");
   }
+  if (r.samples == 0) return r.status != 0 ? r.status : kExitRuntimeFailure;
   RenderResult result;
   result.image = ResolveFilmImage(r.film);
   result.stats = SumOverRanks(r);

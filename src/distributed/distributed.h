@@ -78,7 +78,7 @@ struct DistributedResult {
   uint64_t samples = 0;
   bool interrupted = false;    // Ctrl-C or SIGTERM on some rank
   bool timeLimited = false;
-  std::string failure;         // why the job ended early, naming the rank; empty if not
+  std::string why;             // why the job ended early, naming the rank; empty if not
   bool rankLost = false;       // a rank stopped answering: the job must be aborted
   int status = 0;              // 0; 3 a rank failed or was lost; 130 interrupted
 };

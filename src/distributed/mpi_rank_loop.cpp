@@ -60,7 +60,10 @@ std::pair<int, std::string> RankLoop::StartLanes() {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       continue;
     }
-    if (e->kind == LaneEvent::kReady) ++ready;
+    if (e->kind == LaneEvent::kReady) {
+      ++ready;
+      OnLaneEvent(*e);
+    }
     else if (e->kind == LaneEvent::kFailed) status = 3, message = e->message;
     else early.push_back(std::move(*e));
   }
@@ -79,7 +82,7 @@ DistributedResult RankLoop::Run() {
     shared_.stop = true;
     lanes_.clear();
     DistributedResult failed;
-    failed.failure = message;
+    failed.why = message;
     failed.status = status;
     return failed;
   }
@@ -113,7 +116,10 @@ bool RankLoop::Step() {
 
 void RankLoop::OnLaneEvent(LaneEvent& e) {
   switch (e.kind) {
-    case LaneEvent::kReady: break;
+    case LaneEvent::kReady:
+      own_.backend = e.stats.backend;
+      own_.device = e.stats.device;
+      break;
     case LaneEvent::kWantLeaf:
       wantSince_[size_t(e.lane)] = Clock::now();
       if (stop_ != kStopNone) {
@@ -148,10 +154,6 @@ void RankLoop::OnLaneEvent(LaneEvent& e) {
       break;
     case LaneEvent::kFinished:
       --lanesRunning_;
-      if (own_.backend.empty()) {
-        own_.backend = e.stats.backend;
-        own_.device = e.stats.device;
-      }
       AddRenderStats(own_.stats, e.stats);
       break;
   }
@@ -179,7 +181,7 @@ void RankLoop::StopLocal(StopReason reason) {
 }
 
 void RankLoop::StopAll(StopReason reason, const std::string& why) {
-  if (failure_.empty() && reason >= kStopFailure) failure_ = why;
+  if (why_.empty()) why_ = why;
   StopLocal(reason);
   if (reason <= stopSent_) return;
   stopSent_ = reason;
@@ -260,7 +262,8 @@ void RankLoop::CheckTimers() {
   if (interrupted_.load() && !signalSeen_) {
     signalSeen_ = true;
     if (IsRoot()) {
-      StopAll(kStopInterrupt, "interrupted");
+      StopAll(kStopInterrupt, "rank 0 was interrupted (Ctrl-C or SIGTERM; mpirun sends SIGTERM "
+                              "to every rank when it is interrupted or a rank dies)");
     } else {
       outbox_.SendValue(0, kTagEvent, int32_t(kEventInterrupted));
       StopLocal(kStopInterrupt);
@@ -283,7 +286,7 @@ void RankLoop::CheckTimers() {
 void RankLoop::CheckRootTimers(Clock::time_point now) {
   double limit = distributed_.timeLimitSeconds;
   if (limit > 0.0 && stop_ == kStopNone && Ms(start_, now) >= limit * 1000.0)
-    StopAll(kStopTimeLimit, "");
+    StopAll(kStopTimeLimit, "");  // the normal end of a timed render: no message
   if (onProgress_ && Ms(lastProgress_, now) >= 100.0) {
     uint64_t done = shared_.samples.load();
     for (int r = 1; r < size_; ++r) done += progress_[size_t(r)];

@@ -87,7 +87,7 @@ class RankLoop {
   StopReason stop_ = kStopNone;
   bool flat_ = false, signalSeen_ = false;
   Clock::time_point stopAt_;
-  std::string failure_;
+  std::string why_;  // the first reason to stop early
 
   std::set<int> childrenLeft_;
   std::vector<std::unique_ptr<FilmTransferIn>> incoming_;

@@ -96,7 +96,7 @@ DistributedResult RankLoop::Finish() {
   DistributedResult result;
   result.interrupted = signalSeen_ || stop_ == kStopInterrupt;
   result.timeLimited = stop_ == kStopTimeLimit;
-  result.failure = failure_;
+  result.why = why_;
   result.rankLost = !lost_.empty();
   result.status = stop_ >= kStopFailure ? 3 : result.interrupted ? 130 : 0;
   if (!IsRoot()) return result;
@@ -114,9 +114,14 @@ DistributedResult RankLoop::Finish() {
   }
   result.reductionMs = result.renderMs - lastRank;
   result.ranks = std::move(reports_);
-  if (int(result.ranks.size()) < size_ && result.failure.empty()) {
-    result.failure = "the samples of " + std::to_string(size_ - int(result.ranks.size())) +
-                     " rank(s) did not arrive in time";
+  std::string missing;
+  for (int r = 0, i = 0; r < size_; ++r) {
+    if (i < int(result.ranks.size()) && result.ranks[size_t(i)].rank == r) ++i;
+    else missing += (missing.empty() ? "" : ", ") + std::to_string(r);
+  }
+  if (!missing.empty()) {
+    result.why += (result.why.empty() ? "" : "; ") + std::string("the samples of rank(s) ") +
+                  missing + " did not arrive";
   }
   return result;
 }

@@ -64,8 +64,10 @@ void RenderLane::Run() {
       reported = done;
     };
     std::unique_ptr<RenderSession> session = make_(scene_, options_, callbacks);
-    session->Stats();  // allocates and uploads the scene now: start-up, not render time
-    post(event(LaneEvent::kReady));
+    // Stats() allocates and uploads the scene now: start-up, not render time.
+    LaneEvent ready = event(LaneEvent::kReady);
+    ready.stats = session->Stats();  // names the backend and device
+    post(std::move(ready));
     while (!shared_.stop.load()) {
       post(event(LaneEvent::kWantLeaf));
       std::optional<uint32_t> leaf = WaitForGrant();
