@@ -2,6 +2,7 @@
 // rank parses the command line, loads the scene and makes its render lanes; the ranks agree
 // on each step (one rank's failure ends all, with its message printed once, by rank 0);
 // RenderDistributed splits the samples; rank 0 writes every output and the statistics.
+#include <sched.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -76,6 +77,24 @@ void InstallRankSignalHandlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+// This rank's share of its host's cores: the cores mpirun bound it to, else an even share.
+// mpirun binds each of one or two ranks to a single core by default, which starves the
+// lanes and merge threads: say so.
+unsigned CoresForThisRank(const MpiJob& job) {
+  unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  unsigned share = std::max(1u, cores / unsigned(job.LocalSize()));
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return share;
+  unsigned allowed = unsigned(std::max(1, CPU_COUNT(&set)));
+  if (allowed == 1 && share > 1) {
+    std::fprintf(stderr,
+                 "pathtracer: warning: rank %d is bound to one core; pass --bind-to none (or "
+                 "--map-by ...:pe=N) to mpirun\n",
+                 job.Rank());
+  }
+  return std::min(share, allowed);
+}
+
 // What a rank renders with.
 struct RankSetup {
   std::optional<Scene> scene;
@@ -94,8 +113,7 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
   s.options = app::MakeRenderOptions(cli, backend, nullptr);
   app::CheckChunkOptions(cli, *s.scene, s.options, true);
   s.options.timeLimitSeconds = 0.0;  // rank 0 keeps the time for the whole job
-  unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  unsigned coresPerRank = std::max(1u, cores / unsigned(job.LocalSize()));
+  unsigned coresPerRank = CoresForThisRank(job);
   DistributedOptions& d = s.distributed;
   d.chunks = uint32_t(cli.chunks.value_or(std::min(32, s.scene->desc.render.spp)));
   d.timeLimitSeconds = cli.timeLimitSeconds;
