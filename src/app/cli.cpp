@@ -141,6 +141,7 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--chunks", [](CliOptions& o, ValueSource& s) { o.chunks = ParseInt(s, 1, 1 << 20); }},
       {"--rank-timeout",
        [](CliOptions& o, ValueSource& s) { o.rankTimeoutSeconds = ParsePositiveSeconds(s); }},
+      {"--lanes", [](CliOptions& o, ValueSource& s) { o.lanes = ParseInt(s, 1, 16); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();
@@ -330,6 +331,9 @@ Options take `--flag V` or `--flag=V`; they override the scene's values.
                            image of `mpirun -np K pathtracer ... --chunks N` for any K
                            (default 1; under mpirun 32, at most spp)
   --rank-timeout SECONDS   under mpirun: give up on a rank silent this long (default 60)
+  --lanes N                under mpirun: render lanes (sessions) per rank; 2 on a GPU overlap
+                           one lane's film download with the other's rendering (default 2 on
+                           a GPU, 1 on the CPU)
   --quiet                  no progress bar (shown only when stderr is a terminal anyway)
   --help, --version
 

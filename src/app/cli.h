@@ -48,6 +48,7 @@ struct CliOptions {
   // (at most spp) under mpirun. The image depends on it, never on the number of processes.
   std::optional<int> chunks;
   std::optional<double> rankTimeoutSeconds;  // under mpirun: a rank silent this long is lost
+  std::optional<int> lanes;  // under mpirun: render lanes per rank (default 2 on a GPU, 1 on CPU)
 
   bool quiet = false;
   bool help = false;

@@ -26,10 +26,11 @@ namespace app {
 
 void CheckChunkOptions(const CliOptions& cli, const Scene& scene, const RenderOptions& options,
                        bool distributed) {
-  if (cli.rankTimeoutSeconds && !MpiBuilt()) {
+  if ((cli.rankTimeoutSeconds || cli.lanes) && !MpiBuilt()) {
     throw AppFailure{kExitBadCommandLine,
-                     "--rank-timeout: this build has no MPI support (no MPI library was found "
-                     "when it was configured)"};
+                     std::string(cli.lanes ? "--lanes" : "--rank-timeout") +
+                         ": this build has no MPI support (no MPI library was found when it "
+                         "was configured)"};
   }
   if (!distributed && cli.chunks.value_or(1) <= 1) return;
   int spp = scene.desc.render.spp;
@@ -123,11 +124,11 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
     s.options.device = job.LocalRank() % gpus;
     // Two lanes share the GPU, so that one's film download overlaps the other's rendering;
     // the host cores left over merge films.
-    d.lanes = 2;
+    d.lanes = cli.lanes.value_or(2);
     d.mergeThreads = int(std::clamp(coresPerRank - 2, 1u, 8u));
   } else {
     if (cli.threads == 0) s.options.threads = int(coresPerRank);  // ranks of a host share it
-    d.lanes = 1;
+    d.lanes = cli.lanes.value_or(1);
     d.mergeThreads = 1;
   }
   return s;

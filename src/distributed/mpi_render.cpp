@@ -112,7 +112,9 @@ DistributedResult RankLoop::Finish() {
     result.leavesRendered += uint32_t(r.leaves);
     result.samples += r.samples;
   }
-  result.reductionMs = result.renderMs - lastRank;
+  // Ranks time from their own start, which leaves the last collective within a millisecond
+  // or so of rank 0's: clamp the skew away.
+  result.reductionMs = std::max(0.0, result.renderMs - lastRank);
   result.ranks = std::move(reports_);
   std::string missing;
   for (int r = 0, i = 0; r < size_; ++r) {
