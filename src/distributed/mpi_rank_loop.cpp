@@ -95,7 +95,10 @@ DistributedResult RankLoop::Run() {
   lastHeard_.assign(size_t(size_), start_);
   progress_.assign(size_t(size_), 0);
   while (!Finished()) {
-    if (!Step()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    // Large messages move only while MPI is called (without single-copy shared memory, a
+    // fragment per call): no sleeping while films are on the way.
+    bool moving = !incoming_.empty() || (outgoing_ && !handedOverDone_);
+    if (!Step() && !moving) std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   return Finish();
 }

@@ -92,7 +92,7 @@ class RankLoop {
   std::set<int> childrenLeft_;
   std::vector<std::unique_ptr<FilmTransferIn>> incoming_;
   std::unique_ptr<FilmTransferOut> outgoing_;
-  bool handedOver_ = false;
+  bool handedOver_ = false, handedOverDone_ = false;  // films sent; and delivered
   std::vector<RankReport> reports_;  // the ranks whose samples this rank holds
 
   // Rank 0.

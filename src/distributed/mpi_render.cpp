@@ -74,7 +74,8 @@ void RankLoop::MaybeHandOver() {
 bool RankLoop::Finished() {
   if (!IsRoot()) {
     if (!handedOver_) return false;
-    if (outgoing_->Done() && outbox_.Progress() == 0) return true;
+    handedOverDone_ = handedOverDone_ || outgoing_->Done();
+    if (handedOverDone_ && outbox_.Progress() == 0) return true;
     // Rank 0 has finished without these films (they were late after a stop): stop waiting.
     int done = 0;
     Check(MPI_Iprobe(0, kTagDone, comm_, &done, MPI_STATUS_IGNORE), "MPI_Iprobe");
