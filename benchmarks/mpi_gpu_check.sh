@@ -41,7 +41,6 @@ step() { echo; echo "=== $* ($(date +%T))"; }
 step "machine"
 [ "$BACKEND" = cuda ] && nvidia-smi -L && nvidia-smi topo -m
 nproc
-ldd "$BIN" | grep -E "not found" && echo "missing libraries" && exit 1
 
 # Open MPI: the packed Debian runtime (what the binary was built with), else the machine's own.
 step "MPI"
@@ -60,11 +59,14 @@ else
   echo "no working mpirun: neither the packed Open MPI nor the machine's"
   exit 1
 fi
-echo "MPI: ${MPI_MODE} ($(eval "$MPI_MODE"; mpirun --version | head -1))"
+# Every run from here on, one-process ones too, loads that libmpi.
+eval "$MPI_MODE"
+echo "MPI: ${MPI_MODE} ($(mpirun --version | head -1))"
+ldd "$BIN" | grep -E "not found" && echo "missing libraries" && exit 1
 mpi() {  # mpi N ARGS...: the binary on N ranks, one GPU each
   local n="$1"
   shift
-  (eval "$MPI_MODE"; mpirun --allow-run-as-root --bind-to none -np "$n" "$BIN" "$@")
+  mpirun --allow-run-as-root --bind-to none -np "$n" "$BIN" "$@"
 }
 
 scene_file() {
@@ -82,6 +84,7 @@ for name in $SCENES; do
     for r in $(seq 1 "$REPEATS"); do
       step "$name: $n GPU(s), run $r"
       tag="${name}_${n}gpu_$r"
+      t0=$(date +%s.%N)
       if [ "$n" = 1 ]; then
         "$BIN" "$scene" -o "$T/$tag.png" --hdr "$T/$tag.pfm" --stats-json "$S/$tag.json" \
           "${common[@]}" 2>&1 | tail -2
@@ -89,6 +92,7 @@ for name in $SCENES; do
         mpi "$n" "$scene" -o "$T/$tag.png" --hdr "$T/$tag.pfm" --stats-json "$S/$tag.json" \
           "${common[@]}" 2>&1 | tail -$((n + 2))
       fi
+      awk -v a="$t0" -v b="$(date +%s.%N)" -v t="$tag" 'BEGIN { printf "%s,%.3f\n", t, b - a }' >> "$S/wall.csv"
     done
   done
   step "$name: 1 GPU with the chunks of the split (the bits it must reproduce)"

@@ -17,6 +17,15 @@ import sys
 from pathlib import Path
 
 
+def wall_times(out):
+    """Seconds each run took from its command's start to its end (start-up included)."""
+    path = Path(out) / "wall.csv"
+    if not path.exists():
+        return {}
+    rows = (line.split(",") for line in path.read_text().split())
+    return {name: float(seconds) for name, seconds in rows}
+
+
 def load(out):
     runs = {}
     extra = {}
@@ -50,11 +59,12 @@ def median_run(docs):
 
 def main(out):
     runs, extra = load(out)
+    walls = wall_times(out)
     scenes = sorted({s for s, _ in runs})
     print("## Render time, 1 GPU against N GPUs (medians; min-max)\n")
     print("| scene | GPUs | render s | efficiency | reduction ms | start-up s | Msamples/s | "
-          "load balance |")
-    print("|---|---|---|---|---|---|---|---|")
+          "load balance | whole run s | efficiency of whole runs |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for scene in scenes:
         counts = sorted(n for s, n in runs if s == scene)
         base = statistics.median(render_ms(d) for d in runs[(scene, 1)]) if 1 in counts else None
@@ -67,8 +77,13 @@ def main(out):
             lb = statistics.median(d["mpi"]["load_balance"] for d in docs) if n > 1 else 1.0
             rate = statistics.median(d["samples"] / render_ms(d) / 1e3 for d in docs)
             start = statistics.median(startup_ms(d) for d in docs) / 1e3
+            wall = [v for k, v in walls.items() if k.startswith(f"{scene}_{n}gpu_")]
+            wall1 = [v for k, v in walls.items() if k.startswith(f"{scene}_1gpu_")]
+            w = f"{statistics.median(wall):.2f}" if wall else "-"
+            weff = (f"{statistics.median(wall1) / (n * statistics.median(wall)):.3f}"
+                    if wall and wall1 else "-")
             print(f"| {scene} | {n} | {t:.3f} ({min(times):.3f}-{max(times):.3f}) | {eff} | "
-                  f"{red:.1f} | {start:.2f} | {rate:.1f} | {lb:.3f} |")
+                  f"{red:.1f} | {start:.2f} | {rate:.1f} | {lb:.3f} | {w} | {weff} |")
     print("\n## Where the time goes on each rank (median run)\n")
     print("| scene | GPUs | rank | device | lanes | leaves | finished s | render (lane sum) s | "
           "film download s | waiting s | merging s | hand-over s |")
