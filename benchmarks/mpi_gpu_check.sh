@@ -9,7 +9,7 @@
 # SOURCE holds scenes/ and benchmarks/scenes/; benchmark scenes reach ../../../shared, which
 # must lead to PACK/shared. Environment: GPUS (default: all, up to 8; the list of counts to
 # run is "1 GPUS" unless COUNTS is set, e.g. COUNTS="1 2 4 8"), REPEATS (3), SCENES ("bunny
-# breakfast"), SPP (1024), EXTRA (more options for every run), BACKEND (cuda; cpu checks the
+# breakfast"), SPP (1024), LANES_CHECK (empty: skip the one-lane run), EXTRA (more options for every run), BACKEND (cuda; cpu checks the
 # script on a machine without a GPU: BACKEND=cpu SPP=4 EXTRA="--width 64 --height 36").
 set -uo pipefail
 PACK="$(cd "${1:-.device}" && pwd)"
@@ -111,7 +111,7 @@ for name in $SCENES; do
   cp "$T/${name}_${GPUS}gpu_1.png" "$OUT/${name}_${GPUS}gpu.png" 2>/dev/null || true
 done
 
-if [ -n "${LANES_CHECK:-1}" ] && [ "$GPUS" -gt 1 ]; then
+if [ -n "${LANES_CHECK-1}" ] && [ "$GPUS" -gt 1 ]; then
   name="${SCENES%% *}"
   step "$name: $GPUS GPUs with one lane each (no overlap of film downloads)"
   mpi "$GPUS" "$(scene_file "$name")" -o "$T/lanes1.png" --stats-json "$S/${name}_${GPUS}gpu_lanes1.json" \
