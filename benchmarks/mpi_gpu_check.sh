@@ -21,6 +21,8 @@ S="$OUT/stats"  # every --stats-json and comparison, packed into stats.tar.gz at
 mkdir -p "$S"
 exec > >(tee "$OUT/log.txt") 2>&1
 T="$(mktemp -d)"
+# Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
+[ -e "$SOURCE/../shared" ] || ln -s "$PACK/shared" "$SOURCE/../shared"
 BIN="$PACK/bin/pathtracer"
 CMP="$PACK/bin/image_compare"
 REPEATS="${REPEATS:-3}"
