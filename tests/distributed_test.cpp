@@ -11,6 +11,7 @@
 #include "src/distributed/film_assembler.h"
 #include "src/distributed/film_merge.h"
 #include "src/distributed/leaf_scheduler.h"
+#include "src/distributed/rank_report.h"
 #include "src/distributed/render_lane.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -200,13 +201,34 @@ TEST(LeafScheduler, EveryLeafOnceWithProportionalStartsAndStealing) {
   EXPECT_FALSE(closed.Next(0).has_value());
 }
 
-Scene SmallBox(int spp) {
-  SceneDesc desc = LoadScene(SourcePath("scenes/cornell_box.json"));
-  desc.render.width = 24;
-  desc.render.height = 20;
-  desc.render.spp = spp;
-  return BuildScene(std::move(desc));
+TEST(RankReport, TravelsAsJsonAndGivesTheLoadBalance) {
+  RankReport r;
+  r.rank = 3;
+  r.host = "node7";
+  r.backend = "cuda";
+  r.device = "NVIDIA H200";
+  r.lanes = 2;
+  r.leaves = 9;
+  r.samples = 123456789012ull;
+  r.finishedMs = 2000.0;
+  r.saveMs = 12.5;
+  r.stats.shadowRays = 77;
+  r.stats.stages.shade = 4.25;
+  r.stats.specialization = "diffuse";
+  RankReport back = RankReportFromJson(RankReportToJson(r));
+  EXPECT_EQ(back.rank, 3);
+  EXPECT_EQ(back.host, "node7");
+  EXPECT_EQ(back.samples, 123456789012ull);
+  EXPECT_EQ(back.saveMs, 12.5);
+  EXPECT_EQ(back.stats.shadowRays, 77u);
+  EXPECT_EQ(back.stats.stages.shade, 4.25);
+  EXPECT_EQ(back.stats.device, "NVIDIA H200");
+  RankReport early = r;
+  early.finishedMs = 1000.0;
+  EXPECT_DOUBLE_EQ(LoadBalance({r, early}), 0.75);
 }
+
+Scene SmallBox(int spp) { return SmallScene(SourcePath("scenes/cornell_box.json"), 24, 20, spp); }
 
 RenderOptions OneThread() {
   RenderOptions o;

@@ -312,17 +312,17 @@ TEST_F(MpiRun, WhatTheSplitCannotDoIsRefusedOnEveryRank) {
 
 #if !defined(PT_HAVE_MPI)
 TEST(NoMpiBuild, AStartByAnMpiLauncherIsRefused) {
-  std::string out;
-  int status = test::RunCommand("OMPI_COMM_WORLD_SIZE=2 " +
-                                    Pathtracer("-o /tmp/pt_no_mpi.png" + kBox + " --spp 1"),
+  std::string out, dir = test::TempDir(), png = dir + "/x.png";
+  int status = test::RunCommand("OMPI_COMM_WORLD_SIZE=2 " + Pathtracer("-o " + png + kBox),
                                 &out);
   EXPECT_EQ(status, 3) << out;
   EXPECT_NE(out.find("this build has no MPI support"), std::string::npos) << out;
-  EXPECT_FALSE(fs::exists("/tmp/pt_no_mpi.png"));
-  EXPECT_EQ(test::RunCommand(Pathtracer("-o /tmp/pt_no_mpi.png" + kBox + " --rank-timeout 5"),
-                             &out),
-            1)
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_EQ(test::RunCommand(Pathtracer("-o " + png + kBox + " --rank-timeout 5"), &out), 1)
       << out;
+  EXPECT_EQ(test::RunCommand(Pathtracer("-o " + png + kBox + " --lanes 2"), &out), 1) << out;
+  EXPECT_FALSE(fs::exists(png));
+  fs::remove_all(dir);
 }
 #endif
 

@@ -8,16 +8,17 @@
 namespace pt {
 
 int LauncherWorldSize() {
-  // Open MPI's mpirun, MPICH's Hydra and PMI-1 launchers, Slurm's srun.
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MPI_LOCALNRANKS"}) {
+  // Open MPI's mpirun; MPICH's Hydra and other PMI-1 launchers (Slurm's srun).
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
     const char* value = std::getenv(name);
     if (value && *value) {
       int n = std::atoi(value);
       return n > 0 ? n : -1;
     }
   }
-  // PMIx (Open MPI 5, Slurm with --mpi=pmix) names the rank but not always the size.
-  return std::getenv("PMIX_RANK") ? -1 : 0;
+  // Hydra's local rank count, and PMIx (Open MPI 5, srun --mpi=pmix): a launcher, of a size
+  // they do not give.
+  return std::getenv("MPI_LOCALNRANKS") || std::getenv("PMIX_RANK") ? -1 : 0;
 }
 
 }  // namespace pt

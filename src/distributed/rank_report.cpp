@@ -7,85 +7,69 @@ namespace {
 
 using Json = nlohmann::json;
 
-// The RenderStats fields a rank's report carries (the ones that add up over ranks).
-Json StatsToJson(const RenderStats& s) {
-  const StageTimes& t = s.stages;
-  return Json{{"render_ms", s.renderMs},
-              {"upload_ms", s.uploadMs},
-              {"samples", s.samples},
-              {"camera_rays", s.cameraRays},
-              {"extension_rays", s.extensionRays},
-              {"shadow_rays", s.shadowRays},
-              {"nodes_visited", s.nodesVisited},
-              {"prims_tested", s.primsTested},
-              {"traversals", s.traversals},
-              {"nonfinite", s.nonfiniteSamples},
-              {"path_state_bytes", s.pathStateBytesPerPath},
-              {"paths_in_flight", s.pathsInFlight},
-              {"peak_device_bytes", s.peakDeviceBytes},
-              {"threads", s.threads},
-              {"compact", s.compactUsed},
-              {"sort", s.sortUsed},
-              {"specialization", s.specialization},
-              {"stages", {t.generate, t.intersect, t.sort, t.shade, t.shadow, t.compact,
-                          t.accumulate}}};
+// Each field of the report once, by name: f(key, member) serves both directions.
+template <typename Stats, typename F>
+void StatsFields(Stats& s, F f) {
+  f("render_ms", s.renderMs);
+  f("upload_ms", s.uploadMs);
+  f("samples", s.samples);
+  f("camera_rays", s.cameraRays);
+  f("extension_rays", s.extensionRays);
+  f("shadow_rays", s.shadowRays);
+  f("nodes_visited", s.nodesVisited);
+  f("prims_tested", s.primsTested);
+  f("traversals", s.traversals);
+  f("nonfinite", s.nonfiniteSamples);
+  f("path_state_bytes", s.pathStateBytesPerPath);
+  f("paths_in_flight", s.pathsInFlight);
+  f("peak_device_bytes", s.peakDeviceBytes);
+  f("threads", s.threads);
+  f("compact", s.compactUsed);
+  f("sort", s.sortUsed);
+  f("specialization", s.specialization);
+  f("stage_generate", s.stages.generate);
+  f("stage_intersect", s.stages.intersect);
+  f("stage_sort", s.stages.sort);
+  f("stage_shade", s.stages.shade);
+  f("stage_shadow", s.stages.shadow);
+  f("stage_compact", s.stages.compact);
+  f("stage_accumulate", s.stages.accumulate);
 }
 
-RenderStats StatsFromJson(const Json& j) {
-  RenderStats s;
-  s.renderMs = j.at("render_ms");
-  s.uploadMs = j.at("upload_ms");
-  s.samples = j.at("samples");
-  s.cameraRays = j.at("camera_rays");
-  s.extensionRays = j.at("extension_rays");
-  s.shadowRays = j.at("shadow_rays");
-  s.nodesVisited = j.at("nodes_visited");
-  s.primsTested = j.at("prims_tested");
-  s.traversals = j.at("traversals");
-  s.nonfiniteSamples = j.at("nonfinite");
-  s.pathStateBytesPerPath = j.at("path_state_bytes");
-  s.pathsInFlight = j.at("paths_in_flight");
-  s.peakDeviceBytes = j.at("peak_device_bytes");
-  s.threads = j.at("threads");
-  s.compactUsed = j.at("compact");
-  s.sortUsed = j.at("sort");
-  s.specialization = j.at("specialization");
-  const Json& t = j.at("stages");
-  s.stages = StageTimes{t.at(0), t.at(1), t.at(2), t.at(3), t.at(4), t.at(5), t.at(6)};
-  return s;
+template <typename Report, typename F>
+void ReportFields(Report& r, F f) {
+  f("rank", r.rank);
+  f("host", r.host);
+  f("backend", r.backend);
+  f("device", r.device);
+  f("lanes", r.lanes);
+  f("leaves", r.leaves);
+  f("samples", r.samples);
+  f("startup_ms", r.startupMs);
+  f("finished_ms", r.finishedMs);
+  f("render_ms", r.renderMs);
+  f("save_ms", r.saveMs);
+  f("wait_ms", r.waitMs);
+  f("merge_ms", r.mergeMs);
+  f("send_ms", r.sendMs);
+  f("failure", r.failure);
 }
 
 }  // namespace
 
 Json RankReportToJson(const RankReport& r) {
-  return Json{{"rank", r.rank},          {"host", r.host},
-              {"backend", r.backend},    {"device", r.device},
-              {"lanes", r.lanes},        {"leaves", r.leaves},
-              {"samples", r.samples},    {"startup_ms", r.startupMs},
-              {"finished_ms", r.finishedMs}, {"render_ms", r.renderMs},
-              {"save_ms", r.saveMs},     {"wait_ms", r.waitMs},
-              {"merge_ms", r.mergeMs},   {"send_ms", r.sendMs},
-              {"failure", r.failure},    {"stats", StatsToJson(r.stats)}};
+  Json j, stats;
+  ReportFields(r, [&](const char* key, const auto& value) { j[key] = value; });
+  StatsFields(r.stats, [&](const char* key, const auto& value) { stats[key] = value; });
+  j["stats"] = stats;
+  return j;
 }
 
 RankReport RankReportFromJson(const Json& j) {
   RankReport r;
-  r.rank = j.at("rank");
-  r.host = j.at("host");
-  r.backend = j.at("backend");
-  r.device = j.at("device");
-  r.lanes = j.at("lanes");
-  r.leaves = j.at("leaves");
-  r.samples = j.at("samples");
-  r.startupMs = j.at("startup_ms");
-  r.finishedMs = j.at("finished_ms");
-  r.renderMs = j.at("render_ms");
-  r.saveMs = j.at("save_ms");
-  r.waitMs = j.at("wait_ms");
-  r.mergeMs = j.at("merge_ms");
-  r.sendMs = j.at("send_ms");
-  r.failure = j.at("failure");
-  r.stats = StatsFromJson(j.at("stats"));
+  ReportFields(r, [&](const char* key, auto& value) { j.at(key).get_to(value); });
+  const Json& stats = j.at("stats");
+  StatsFields(r.stats, [&](const char* key, auto& value) { stats.at(key).get_to(value); });
   r.stats.backend = r.backend;
   r.stats.device = r.device;
   return r;
