@@ -200,7 +200,7 @@ class Study(RobustnessParts, ReportParts, PublishedParts):
             stats, img, wall, err = self.runner.render(sc["path"], sc["w"], sc["h"], 16, 99,
                                                        flags_of(BASE), reference=ref["path"])
             if stats and stats.get("reference_relmse"):
-                theirs = stats["reference_relmse"][-1][1]
+                theirs = stats["reference_relmse"][-1]["relmse"]
                 ours = relmse(img, ref["img"])
                 ok = abs(theirs - ours) <= 1e-4 * max(ours, 1e-12) + 1e-9
                 self.xcheck.append((sc["name"], ours, theirs, ok))

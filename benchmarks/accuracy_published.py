@@ -208,7 +208,7 @@ class PublishedParts:
                     R.row(status="failed", note=err, **row)
                     continue
                 rl = stats.get("reference_relmse") or []
-                val = rl[-1][1] if rl else float("nan")
+                val = rl[-1]["relmse"] if rl else float("nan")
                 R.row(status="ok", relmse=val, note="relMSE from the renderer's --reference",
                       **stat_fields(stats, wall), **row)
                 pts.append((spp, val, stats["time_ms"]["render"] / 1000.0, float(img.mean())

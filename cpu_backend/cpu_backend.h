@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -13,15 +14,35 @@
 
 namespace pt {
 
+// The bytes the CPU backend's buffers hold (path state, film, queues), now and at their peak:
+// the renderer's own memory, the CPU's counterpart of the CUDA backend's device memory.
+struct HostMemoryTracker {
+  static inline std::atomic<size_t> current{0}, peak{0};
+  static void Change(size_t before, size_t after) {
+    if (after < before) {
+      current -= before - after;
+      return;
+    }
+    size_t now = current += after - before;
+    size_t p = peak.load();
+    while (now > p && !peak.compare_exchange_weak(p, now)) {}
+  }
+};
+
 class CpuBackend {
  public:
   template <typename T>
   class Buffer {
    public:
-    void Resize(size_t n) { data_.resize(n); }
-    void Upload(const std::vector<T>& src) { data_ = src; }
+    Buffer() = default;
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+    ~Buffer() { HostMemoryTracker::Change(Bytes(), 0); }
+
+    void Resize(size_t n) { Tracked([&] { data_.resize(n); }); }
+    void Upload(const std::vector<T>& src) { Tracked([&] { data_ = src; }); }
     void UploadBytes(const void* src, size_t bytes) {
-      data_.resize((bytes + sizeof(T) - 1) / sizeof(T));
+      Tracked([&] { data_.resize((bytes + sizeof(T) - 1) / sizeof(T)); });
       if (bytes) std::memcpy(data_.data(), src, bytes);
     }
     void Download(std::vector<T>& dst) const { dst = data_; }
@@ -32,6 +53,12 @@ class CpuBackend {
     size_t Bytes() const { return data_.size() * sizeof(T); }
 
    private:
+    template <typename F>
+    void Tracked(F change) {
+      size_t before = Bytes();
+      change();
+      HostMemoryTracker::Change(before, Bytes());
+    }
     std::vector<T> data_;
   };
 
@@ -79,7 +106,7 @@ class CpuBackend {
   std::string Name() const { return "cpu"; }
   std::string DeviceName() const;
   int ThreadCount() const { return pool_.Size(); }
-  size_t PeakBytes() const { return 0; }
+  size_t PeakBytes() const { return HostMemoryTracker::peak.load(); }
 
  private:
   using Clock = std::chrono::steady_clock;

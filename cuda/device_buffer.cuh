@@ -32,7 +32,8 @@ class DeviceBuffer {
     if (n == size_) return;
     Free();
     if (n == 0) return;
-    CudaCheck(cudaMalloc(&data_, n * sizeof(T)), "cudaMalloc");
+    CudaAllocate(reinterpret_cast<void**>(&data_), n * sizeof(T),
+                 DeviceMemoryTracker::current.load(), "cudaMalloc");
     size_ = n;
     DeviceMemoryTracker::Add(Bytes());
   }

@@ -28,7 +28,8 @@ class ThrustCachingAllocator {
       ptr = it->second;
       free_.erase(it);
     } else {
-      CudaCheck(cudaMalloc(&ptr, n), "cudaMalloc (thrust scratch)");
+      CudaAllocate(reinterpret_cast<void**>(&ptr), n, DeviceMemoryTracker::current.load(),
+                   "cudaMalloc (thrust scratch)");
       DeviceMemoryTracker::Add(n);
     }
     used_[ptr] = n;

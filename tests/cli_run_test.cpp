@@ -1,60 +1,26 @@
-// The built `pathtracer` binary end to end: each exit status of cli.md (0, 1, 2, 3, 130),
+// The built `pathtracer` binary end to end: each exit status of cli.md (0, 1, 2, 3, 128+N),
 // what is and is not written in each case, and the --stats-json schema.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "src/integrator/render_api.h"
 #include "src/io/image_io.h"
-#include "tests/test_util.h"
+#include "tests/cli_test_util.h"
 
 namespace pt {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A tiny scene with a diffuse floor and sphere, an area light, a point light and a background.
-constexpr const char* kTinyScene = R"({
-  "render": {"width": 16, "height": 16, "spp": 2, "max_depth": 3, "seed": 1},
-  "camera": {"position": [0, 1, 3], "look_at": [0, 0.5, 0], "fov_y": 45},
-  "background": [0.1, 0.1, 0.1],
-  "materials": {
-    "white": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
-    "lamp": {"type": "emissive", "radiance": [5, 5, 5]}
-  },
-  "objects": [
-    {"type": "quad", "origin": [-1, 0, -1], "u": [0, 0, 2], "v": [2, 0, 0], "material": "white"},
-    {"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "white"},
-    {"type": "quad", "origin": [-0.5, 2, -0.5], "u": [1, 0, 0], "v": [0, 0, 1], "material": "lamp"}
-  ],
-  "lights": [{"type": "point", "position": [0, 1.5, 1], "intensity": [1, 1, 1]}]
-})";
-
-std::string WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
-// Runs the binary with arguments; returns its exit status and keeps its output.
-int RunPathtracer(const std::string& args, std::string* output = nullptr) {
-  std::string text;
-  int status = test::RunCommand(test::BinaryPath("pathtracer") + " " + args, &text);
-  if (output) *output = text;
-  return status;
-}
+using test::kTinyScene;
+using test::ReadText;
+using test::RunPathtracer;
+using test::WriteText;
 
 class CliRun : public ::testing::Test {
  protected:
@@ -181,16 +147,41 @@ TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
             0)
       << out;
   nlohmann::json j = nlohmann::json::parse(ReadText(stats));
-  for (const char* key : {"backend", "device", "threads", "scene", "time_ms", "samples",
-                          "spp_mean", "rays", "msamples_per_s", "mrays_per_s", "bvh",
-                          "path_state_bytes_per_path", "paths_in_flight", "peak_device_bytes",
-                          "nonfinite_samples", "interrupted", "reference_relmse"}) {
+  for (const char* key :
+       {"version", "command_line", "scene_file", "backend", "device", "threads", "scene",
+        "time_ms", "spp_requested", "samples", "spp_mean", "stop_reason", "signal",
+        "interrupted", "resumed", "checkpoints_written", "clamp_luminance", "biased", "rays",
+        "msamples_per_s", "mrays_per_s", "bvh", "path_state_bytes_per_path", "paths_in_flight",
+        "memory", "peak_device_bytes", "nonfinite_samples", "reference_relmse"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
+  EXPECT_EQ(j["version"], PT_VERSION);
+  std::vector<std::string> commandLine = j["command_line"];
+  ASSERT_EQ(commandLine.size(), 7u);
+  EXPECT_EQ(commandLine[0], test::BinaryPath("pathtracer"));
+  EXPECT_EQ(commandLine[1], scene_);
+  EXPECT_EQ(commandLine[6], "--stats-json=" + stats);
+  EXPECT_EQ(j["scene_file"], scene_);
+  EXPECT_EQ(j["spp_requested"], 2);
+  EXPECT_EQ(j["stop_reason"], "completed");
+  EXPECT_TRUE(j["signal"].is_null());
+  EXPECT_TRUE(j["resumed"].is_null());
+  EXPECT_EQ(j["checkpoints_written"], 0);
+  EXPECT_TRUE(j["clamp_luminance"].is_null());
+  EXPECT_EQ(j["biased"], false);
+  // Memory that means something on the CPU: the renderer's host buffers and the process.
+  EXPECT_EQ(j["memory"]["renderer_buffers_on"], "host");
+  EXPECT_GT(j["memory"]["renderer_buffers_peak_bytes"].get<uint64_t>(), 16u * 16u * 2u * 100u);
+  EXPECT_GT(j["memory"]["process_peak_rss_bytes"].get<uint64_t>(),
+            j["memory"]["renderer_buffers_peak_bytes"].get<uint64_t>());
+  EXPECT_TRUE(j["peak_device_bytes"].is_null());  // no device on the CPU backend
+  // The whole run's wall time holds every phase.
+  double total = j["time_ms"]["total"];
+  EXPECT_GE(total, j["time_ms"]["render"].get<double>() + j["time_ms"]["load"].get<double>());
   for (const char* key : {"triangles", "primitives", "lights", "effects"}) {
     EXPECT_TRUE(j["scene"].contains(key)) << key;
   }
-  for (const char* key : {"load", "bvh_build", "upload", "render", "stages"}) {
+  for (const char* key : {"total", "load", "bvh_build", "upload", "render", "stages"}) {
     EXPECT_TRUE(j["time_ms"].contains(key)) << key;
   }
   for (const char* key :
@@ -227,9 +218,13 @@ TEST_F(CliRun, ReferenceRelMseIsLogged) {
       << out;
   nlohmann::json j = nlohmann::json::parse(ReadText(stats));
   ASSERT_TRUE(j["reference_relmse"].is_array());
-  for (const auto& entry : j["reference_relmse"]) {
-    ASSERT_EQ(entry.size(), 2u);
-    EXPECT_GE(entry[1].get<double>(), 0.0);
+  ASSERT_FALSE(j["reference_relmse"].empty());
+  double last = -1.0;
+  for (const auto& point : j["reference_relmse"]) {  // labelled points in time order
+    ASSERT_TRUE(point.is_object()) << point;
+    EXPECT_GE(point["relmse"].get<double>(), 0.0);
+    EXPECT_GT(point["seconds"].get<double>(), last);
+    last = point["seconds"];
   }
 }
 
@@ -247,23 +242,35 @@ TEST_F(CliRun, TimeLimitStopsTheRenderAndWrites) {
   EXPECT_TRUE(fs::exists(dir_ + "/out.png"));
   nlohmann::json j = nlohmann::json::parse(ReadText(stats));
   EXPECT_LT(j["spp_mean"].get<double>(), 10000000.0);
+  EXPECT_EQ(j["stop_reason"], "time_limit");
+  EXPECT_EQ(j["interrupted"], true);
+  EXPECT_TRUE(j["signal"].is_null());
 }
 
-TEST_F(CliRun, CtrlCWritesTheImageAndExits130) {
-  std::string out;
-  std::string image = dir_ + "/out.png", stats = dir_ + "/stats.json";
-  // SIGINT once the render runs (its first preview is on disk), however loaded the machine.
-  std::string command = "(" + test::BinaryPath("pathtracer") + " " + scene_ + " -o " + image +
-                        " --backend cpu --spp 10000000 --time-limit 60 --preview-every 0.1" +
-                        " --stats-json " + stats + " 2>&1 & pid=$!; i=0; while [ ! -f " + image +
-                        " ] && [ $i -lt 300 ]; do sleep 0.1; i=$((i+1)); done; sleep 0.2;" +
-                        " kill -INT $pid; wait $pid)";
-  ASSERT_EQ(test::RunCommand(command, &out), 130) << out;
-  ASSERT_TRUE(fs::exists(stats)) << out;  // written after the interrupt, so not killed by it
-  nlohmann::json j = nlohmann::json::parse(ReadText(stats));
-  EXPECT_EQ(j["interrupted"], true);
-  EXPECT_GT(j["samples"].get<uint64_t>(), 0u);
-  EXPECT_TRUE(fs::exists(image));
+// Each stop signal (a terminal's Ctrl-C, a scheduler's SIGTERM, a closed session's SIGHUP),
+// sent to a real process once its render is under way: the image so far, a resumable --hdr
+// EXR and the stats marked with the signal are written, and the exit status is 128 + N.
+TEST_F(CliRun, EachStopSignalWritesTheImageAndExits128PlusN) {
+  for (auto [name, number] : {std::pair{"INT", 2}, {"TERM", 15}, {"HUP", 1}}) {
+    SCOPED_TRACE(name);
+    std::string image = dir_ + "/" + name + ".png", hdr = dir_ + "/" + name + ".exr",
+                stats = dir_ + "/" + name + ".json", out;
+    // The first preview on disk says the render runs, however loaded the machine.
+    std::string args = scene_ + " -o " + image + " --hdr " + hdr + " --stats-json " + stats +
+                       " --backend cpu --spp 10000000 --time-limit 60 --preview-every 0.1";
+    ASSERT_EQ(test::RunPathtracerAndSignal(args, image, name, &out), 128 + number) << out;
+    ASSERT_TRUE(fs::exists(stats)) << out;  // written after the signal, so not killed by it
+    nlohmann::json j = nlohmann::json::parse(ReadText(stats));
+    EXPECT_EQ(j["stop_reason"], "signal");
+    EXPECT_EQ(j["signal"], std::string("SIG") + name);
+    EXPECT_EQ(j["interrupted"], true);
+    EXPECT_GT(j["samples"].get<uint64_t>(), 0u);
+    EXPECT_NE(out.find(std::string("SIG") + name + " received"), std::string::npos) << out;
+    EXPECT_NE(out.find("wrote " + hdr + " (resumable"), std::string::npos) << out;
+    int w = 0, h = 0;
+    EXPECT_NO_THROW(ReadExrChannel(hdr, "state.mean.R", &w, &h));
+    EXPECT_TRUE(fs::exists(image));
+  }
 }
 
 }  // namespace

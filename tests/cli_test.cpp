@@ -142,7 +142,10 @@ TEST(CliParse, HelpAndVersionNeedNothingElse) {
   for (const char* option :
        {"-o FILE", "--hdr", "--spp", "--width", "--height", "--max-depth", "--seed", "--rr-depth",
         "--backend", "--threads", "--compact", "--sort", "--integrator", "--reference",
-        "--time-limit", "--preview-every", "--crop", "--stats-json", "--quiet", "--version"}) {
+        "--time-limit", "--preview-every", "--crop", "--stats-json", "--quiet", "--version",
+        "--adaptive", "--spp-map", "--light-paths", "--tri-test", "--film", "--specialize",
+        "--ray-offset", "--max-paths", "--clamp", "--checkpoint-every", "--resume",
+        "--progress-every", "143 SIGTERM"}) {
     EXPECT_TRUE(Contains(usage, option)) << option;
   }
 }
@@ -183,6 +186,14 @@ TEST(CliParse, BadCommandLines) {
       {{"s.json", "-o", "o.png", "--hdr", "h.png"}, "unknown image format"},
       {{"s.json", "-o", "o.png", "--reference", "r.txt"}, "unknown image format"},
       {{"s.json", "-o", ""}, "empty file name"},
+      {{"s.json", "-o", "o.png", "--max-paths", "0"}, "--max-paths must be between"},
+      {{"s.json", "-o", "o.png", "--clamp", "0"}, "--clamp must be greater than 0"},
+      {{"s.json", "-o", "o.png", "--clamp", "inf"}, "bad number for --clamp"},
+      {{"s.json", "-o", "o.png", "--progress-every", "-1"}, "greater than 0"},
+      {{"s.json", "-o", "o.png", "--checkpoint-every", "5"}, "needs --hdr FILE.exr"},
+      {{"s.json", "-o", "o.png", "--hdr", "h.pfm", "--checkpoint-every", "5"},
+       "needs --hdr FILE.exr"},
+      {{"s.json", "-o", "o.png", "--resume", "r.pfm"}, "resumes from the .exr"},
   };
   for (const Case& c : cases) {
     std::string message = ParseError(c.args);
@@ -231,6 +242,26 @@ TEST(CliParse, LaterFeaturesAreRefusedNotIgnored) {
     std::string message = ParseError(args);
     EXPECT_TRUE(Contains(message, "bad value")) << args[3] << ": " << message;
   }
+}
+
+TEST(CliParse, LongRenderOptions) {
+  CliOptions o = Parse({"s.json", "-o", "o.png", "--hdr", "h.exr", "--checkpoint-every", "30",
+                        "--resume=h.exr", "--progress-every", "2.5", "--max-paths", "4096",
+                        "--clamp=20"});
+  EXPECT_DOUBLE_EQ(o.checkpointEverySeconds, 30.0);
+  EXPECT_EQ(o.resumePath, "h.exr");
+  EXPECT_DOUBLE_EQ(o.progressEverySeconds, 2.5);
+  EXPECT_EQ(o.maxPaths, 4096u);
+  EXPECT_FLOAT_EQ(o.clampLuminance, 20.0f);
+  ASSERT_EQ(o.arguments.size(), 14u);
+  EXPECT_EQ(o.arguments[0], "pathtracer");
+  EXPECT_EQ(o.arguments[13], "--clamp=20");
+  CliOptions d = Parse({"s.json", "-o", "o.png"});
+  EXPECT_DOUBLE_EQ(d.progressEverySeconds, 10.0);
+  EXPECT_EQ(d.checkpointEverySeconds, 0.0);
+  EXPECT_TRUE(d.resumePath.empty());
+  EXPECT_EQ(d.maxPaths, 0u);
+  EXPECT_EQ(d.clampLuminance, 0.0f);
 }
 
 TEST(CliParse, DoubleDashEndsOptions) {

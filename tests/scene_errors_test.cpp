@@ -204,6 +204,29 @@ TEST(SceneErrors, OutOfRangeRenderAndCamera) {
   ExpectError(camera(pos + R"("fov_y": 45, "focus_distance": 0)"), "camera.focus_distance", "> 0");
 }
 
+// JSON has no NaN or Infinity: the message names the element that holds one, not the last
+// good element before it (a NaN at look_at[1] once read "malformed JSON near look_at[0]").
+TEST(SceneErrors, NonFiniteLiteralsNameTheirExactIndex) {
+  const std::string head = "scenes/bad.json: ";
+  auto lookAt = [](const std::string& v) {
+    Parts p;
+    p.camera = R"("position": [0, 0, 0], "look_at": )" + v + R"(, "fov_y": 45)";
+    return p;
+  };
+  EXPECT_EQ(ErrorOf(lookAt("[0, NaN, -1]").Text()),
+            head + "camera.look_at[1]: NaN is not a finite number (JSON has no NaN or Infinity)");
+  EXPECT_EQ(ErrorOf(lookAt("[NaN, 0, -1]").Text()).rfind(head + "camera.look_at[0]: NaN", 0), 0u);
+  EXPECT_EQ(ErrorOf(lookAt("[0, 0,\n  -Infinity]").Text()).rfind(head + "camera.look_at[2]: -Infinity", 0),
+            0u);
+  EXPECT_EQ(ErrorOf(lookAt("[0, inf, -1]").Text()).rfind(head + "camera.look_at[1]: inf", 0), 0u);
+  Parts fov;
+  fov.camera = R"("position": [0, 0, 0], "look_at": [0, 0, -1], "fov_y": nan)";
+  EXPECT_EQ(ErrorOf(fov.Text()).rfind(head + "camera.fov_y: nan is not a finite number", 0), 0u);
+  // Other broken values still read as malformed JSON near the element that failed.
+  std::string typo = ErrorOf(lookAt("[0, 1x, -1]").Text());
+  EXPECT_EQ(typo.rfind(head + "malformed JSON near camera.look_at[1]", 0), 0u) << typo;
+}
+
 TEST(SceneErrors, CameraUpParallelOrNoViewDirection) {
   Parts up;
   up.camera = R"("position": [0, 0, 0], "look_at": [0, 5, 0], "up": [0, 2, 0], "fov_y": 45)";

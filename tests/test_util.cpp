@@ -8,6 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 namespace pt::test {
 
@@ -30,13 +34,46 @@ std::string BinaryPath(const std::string& relative) {
   return Dir("PT_BINARY_DIR", PT_BINARY_DIR) + "/" + relative;
 }
 
-std::string TempDir() {
+namespace {
+
+std::string MakeTempFolder() {
   static std::atomic<int> counter{0};
   auto dir = std::filesystem::temp_directory_path() /
              ("pt_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();
+}
+
+// The folders TempDir handed out to the running test.
+std::vector<std::unique_ptr<TempFolder>>& TestFolders() {
+  static std::vector<std::unique_ptr<TempFolder>> folders;
+  return folders;
+}
+
+// Removes each test's folders when it ends, and any left at the end of the program.
+class TempDirCleaner : public ::testing::EmptyTestEventListener {
+  void OnTestEnd(const ::testing::TestInfo&) override { TestFolders().clear(); }
+  void OnTestProgramEnd(const ::testing::UnitTest&) override { TestFolders().clear(); }
+};
+
+[[maybe_unused]] const bool kCleanerInstalled = [] {
+  ::testing::UnitTest::GetInstance()->listeners().Append(new TempDirCleaner);
+  return true;
+}();
+
+}  // namespace
+
+TempFolder::TempFolder() : path_(MakeTempFolder()) {}
+
+TempFolder::~TempFolder() {
+  std::error_code ignored;  // a destructor must not throw; ctest's check reports leftovers
+  std::filesystem::remove_all(path_, ignored);
+}
+
+std::string TempDir() {
+  TestFolders().push_back(std::make_unique<TempFolder>());
+  return TestFolders().back()->Path();
 }
 
 int RunCommand(const std::string& command, std::string* output) {

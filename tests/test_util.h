@@ -1,4 +1,5 @@
-// Shared test helpers: paths to the project and ../shared, and running the CLI.
+// Shared test helpers: paths to the project and ../shared, temporary folders, and running the
+// CLI.
 #pragma once
 
 #include <string>
@@ -9,7 +10,23 @@ std::string SourcePath(const std::string& relative);   // inside the repository
 std::string SharedPath(const std::string& relative);   // inside ../shared
 bool HaveShared();                                       // false in a user's clone
 std::string BinaryPath(const std::string& relative);   // inside the build folder
-std::string TempDir();                                   // a fresh folder for this test
+
+// A fresh folder under the temporary directory, removed with its contents when destroyed.
+class TempFolder {
+ public:
+  TempFolder();
+  ~TempFolder();
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  const std::string& Path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// A fresh folder for the running test, removed when the test ends (passed, failed or
+// skipped); ctest checks that a test run leaves nothing behind (tests/CMakeLists.txt).
+std::string TempDir();
 
 // Runs a shell command; returns its exit status (the shell's, 128+n for signals).
 int RunCommand(const std::string& command, std::string* output = nullptr);

@@ -59,16 +59,20 @@ int ParseInt(ValueSource& src, int lo, int hi) {
   return int(ParseInteger(src.Option(), src.Take(), lo, hi));
 }
 
-double ParsePositiveSeconds(ValueSource& src) {
+// A finite number > 0 that fits a float; `what` names it in messages.
+double ParsePositiveNumber(ValueSource& src, const char* what) {
   std::string text = src.Take();
   char* end = nullptr;
   double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value)) {
-    throw CliError("bad number for " + src.Option() + ": '" + text + "'");
+  if (text.empty() || *end != '\0' || !std::isfinite(value) || value > 1e30) {
+    throw CliError("bad number for " + src.Option() + ": '" + text + "' (expected " + what +
+                   ")");
   }
   if (value <= 0.0) throw CliError(src.Option() + " must be greater than 0, not " + text);
   return value;
 }
+
+double ParsePositiveSeconds(ValueSource& src) { return ParsePositiveNumber(src, "seconds"); }
 
 template <typename T>
 T ParseChoice(ValueSource& src, std::initializer_list<std::pair<const char*, T>> choices) {
@@ -138,6 +142,17 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--preview-every",
        [](CliOptions& o, ValueSource& s) { o.previewEverySeconds = ParsePositiveSeconds(s); }},
       {"--crop", [](CliOptions& o, ValueSource& s) { o.crop = ParseCrop(s); }},
+      {"--max-paths",
+       [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
+      {"--clamp",
+       [](CliOptions& o, ValueSource& s) {
+         o.clampLuminance = float(ParsePositiveNumber(s, "a luminance"));
+       }},
+      {"--progress-every",
+       [](CliOptions& o, ValueSource& s) { o.progressEverySeconds = ParsePositiveSeconds(s); }},
+      {"--checkpoint-every",
+       [](CliOptions& o, ValueSource& s) { o.checkpointEverySeconds = ParsePositiveSeconds(s); }},
+      {"--resume", [](CliOptions& o, ValueSource& s) { o.resumePath = TakePath(s); }},
       {"--chunks", [](CliOptions& o, ValueSource& s) { o.chunks = ParseInt(s, 1, 1 << 20); }},
       {"--rank-timeout",
        [](CliOptions& o, ValueSource& s) { o.rankTimeoutSeconds = ParsePositiveSeconds(s); }},
@@ -279,6 +294,13 @@ void CheckRequired(const CliOptions& options) {
   if (!options.referencePath.empty()) {
     CheckExtension("--reference", options.referencePath, false);
   }
+  if (!options.resumePath.empty() && !IsExrPath(options.resumePath)) {
+    throw CliError("--resume " + options.resumePath +
+                   ": a render resumes from the .exr its --hdr wrote");
+  }
+  if (options.checkpointEverySeconds > 0.0 && !IsExrPath(options.hdrPath)) {
+    throw CliError("--checkpoint-every needs --hdr FILE.exr: the checkpoint is that EXR");
+  }
 }
 
 }  // namespace
@@ -286,6 +308,7 @@ void CheckRequired(const CliOptions& options) {
 CliOptions ParseCli(int argc, const char* const* argv) {
   std::vector<std::string> args(argv + std::min(argc, 1), argv + argc);
   CliOptions options;
+  options.arguments.assign(argv, argv + std::max(argc, 0));
   bool optionsEnded = false;
   for (size_t next = 0; next < args.size();) {
     const std::string& token = args[next++];
@@ -302,50 +325,6 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   }
   if (!options.help && !options.version) CheckRequired(options);
   return options;
-}
-
-std::string CliUsage() {
-  return R"(usage: pathtracer SCENE.json -o OUT [options]
-
-Renders SCENE.json (see scene-format.md) to OUT (.png sRGB; .exr or .pfm linear).
-Options take `--flag V` or `--flag=V`; they override the scene's values.
-
-  -o FILE                  the image (required)
-  --hdr FILE               also a linear .exr (with variance and sample channels) or .pfm
-  --spp N                  samples per pixel
-  --width W, --height H    image size in pixels
-  --max-depth D            most bounces a path may take
-  --seed S                 random seed (0..4294967295)
-  --rr-depth N|off         Russian roulette from bounce N, or never
-  --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)
-  --threads N              CPU threads, 0 = all cores (default 0)
-  --compact on|off|auto    stream compaction of finished paths (default auto)
-  --sort off|material|auto order live paths by material before shading (default auto)
-  --integrator mis|bsdf|nee  light transport estimator (default mis)
-  --reference FILE         log relMSE against this .exr/.pfm image into the stats
-  --time-limit SECONDS     stop after this much render time, write what has accumulated
-  --preview-every SECONDS  rewrite the outputs as samples accumulate
-  --crop X0 Y0 X1 Y1       render only this pixel window [X0,X1) x [Y0,Y1)
-  --stats-json FILE        write render statistics as JSON
-  --chunks N               cut the samples into N chunks merged along a fixed tree: the
-                           image of `mpirun -np K pathtracer ... --chunks N` for any K
-                           (default 1; under mpirun 32, at most spp)
-  --rank-timeout SECONDS   under mpirun: give up on a rank silent this long (default 60)
-  --lanes N                under mpirun: render lanes (sessions) per rank; 2 on a GPU overlap
-                           one lane's film download with the other's rendering (default 2 on
-                           a GPU, 1 on the CPU)
-  --quiet                  no progress bar (shown only when stderr is a terminal anyway)
-  --help, --version
-
-Not built yet (refused): --sort queues.
-
-Exit status: 0 success, 1 bad command line, 2 bad scene or input file (nothing written),
-3 runtime failure (no GPU, out of memory, unwritable output), 130 interrupted (image written).
-
-Under mpirun (a build with MPI): `mpirun -np N pathtracer SCENE.json -o OUT [options]` splits
-the samples over N processes, each on its own GPU (local rank mod GPUs) or CPU threads;
-rank 0 writes every output. See docs/distributed.md.
-)";
 }
 
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {

@@ -44,6 +44,14 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
+  float clampLuminance = 0.0f;  // --clamp: 0 = off
+
+  // Long renders.
+  double progressEverySeconds = 10.0;   // progress lines when stderr is not a terminal
+  double checkpointEverySeconds = 0.0;  // 0 = none; else rewrite --hdr as a resumable state
+  std::string resumePath;               // --resume, empty = a fresh render
+  std::vector<std::string> arguments;   // the command line as given (for the stats)
   // Sample chunks merged along a fixed tree (src/distributed/); unset: 1 for one process, 32
   // (at most spp) under mpirun. The image depends on it, never on the number of processes.
   std::optional<int> chunks;

@@ -1,98 +1,25 @@
 #include "src/app/run.h"
 
-#include <unistd.h>
-
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <new>
+#include <optional>
 #include <string>
 
+#include "src/app/app_failure.h"
 #include "src/app/cli.h"
-#include "src/app/progress.h"
+#include "src/app/outputs.h"
+#include "src/app/render_job.h"
+#include "src/app/resume.h"
 #include "src/app/run_steps.h"
 #include "src/app/stats_json.h"
-#include "src/distributed/chunked_render.h"
+#include "src/app/stop_signals.h"
 #include "src/distributed/distributed.h"
 #include "src/io/image_io.h"
-#include "src/io/scene_loader.h"
-#include "src/scene/effects.h"
+#include "src/scene/scene_checks.h"
 
 namespace pt {
-namespace app {
-
-std::atomic<bool> gInterrupted{false};
-
-// First Ctrl-C: stop after the current wave and write what has accumulated. Second: die.
-extern "C" void OnSigint(int) {
-  if (gInterrupted.exchange(true)) {
-    std::signal(SIGINT, SIG_DFL);
-    std::raise(SIGINT);
-    return;
-  }
-  const char message[] = "\npathtracer: interrupted; writing the image (Ctrl-C again to quit)\n";
-  ssize_t ignored = write(STDERR_FILENO, message, sizeof(message) - 1);
-  (void)ignored;
-}
-
-void InstallSigintHandler() {
-  struct sigaction action = {};
-  action.sa_handler = OnSigint;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-}
-
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void CheckOutputsWritable(const CliOptions& cli) {
-  for (const std::string* path :
-       {&cli.outputPath, &cli.hdrPath, &cli.statsJsonPath, &cli.sppMapPath}) {
-    std::string why;
-    if (!path->empty() && !CheckWritable(*path, &why)) {
-      throw AppFailure{kExitRuntimeFailure, "cannot write " + *path + ": " + why};
-    }
-  }
-}
-
-SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
-  Clock::time_point start = Clock::now();
-  SceneDesc desc;
-  try {
-    desc = LoadScene(cli.scenePath);
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
-  *loadMs = MsSince(start);
-  try {
-    ApplyCliOverrides(cli, &desc.render);
-  } catch (const CliError& e) {
-    throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
-  }
-  for (const std::string& warning : desc.warnings) {
-    std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
-  }
-  return desc;
-}
-
-Scene Build(SceneDesc desc, double* bvhBuildMs) {
-  Clock::time_point start = Clock::now();
-  try {
-    Scene scene = BuildScene(std::move(desc));
-    // The builder's own BVH time when it keeps one; else the whole build.
-    *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
-    return scene;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
-}
+namespace {
 
 // The reference at the size of what is rendered: the crop's, or a full image cut to it.
 std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& settings) {
@@ -121,130 +48,68 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
   return cut;
 }
 
-// auto: CUDA when it is built and a GPU is present, else the CPU.
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
-  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
-  bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
-  if (requested == BackendKind::kCuda && !cudaReady) {
-    throw AppFailure{kExitRuntimeFailure,
-                     backends.cudaSession ? "--backend cuda: no CUDA device found"
-                                         : "--backend cuda: this build has no CUDA backend"};
+// The render on the chosen backend; with the render's description where a resumable state
+// may be written or read.
+RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend,
+                  const AppBackends& backends, const std::vector<float>* reference) {
+  RenderJob job;
+  job.cli = &cli;
+  job.scene = &scene;
+  job.makeSession = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
+  job.options = MakeRenderOptions(cli, backend, reference);
+  job.chunks = uint32_t(cli.chunks.value_or(1));
+  if (IsExrPath(cli.hdrPath) || !cli.resumePath.empty()) {
+    bool adaptive = cli.adaptive == Toggle::kAuto ? scene.desc.render.adaptive.enabled
+                                                  : cli.adaptive == Toggle::kOn;
+    job.description = DescribeRender(cli, scene, job.options, adaptive).dump();
   }
-  bool useCuda = requested != BackendKind::kCpu && cudaReady;
-  return useCuda ? BackendKind::kCuda : BackendKind::kCpu;
+  return job;
 }
 
-void WriteOutputs(const CliOptions& cli, const FilmImage& image) {
-  WriteImage(cli.outputPath, image, false);
-  if (!cli.hdrPath.empty()) WriteImage(cli.hdrPath, image, true);
-  if (!cli.sppMapPath.empty()) WriteSppMap(cli.sppMapPath, image);
-}
-
-RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
-                                const std::vector<float>* reference) {
-  RenderOptions options;
-  options.backend = backend;
-  options.threads = cli.threads;
-  options.compact = cli.compact;
-  options.sort = cli.sort;
-  options.integrator = cli.integrator;
-  if (cli.crop) options.crop = *cli.crop;
-  options.timeLimitSeconds = cli.timeLimitSeconds;
-  options.previewEverySeconds = cli.previewEverySeconds;
-  options.reference = reference;
-  options.adaptive = cli.adaptive;
-  options.lightPaths = cli.lightPaths;
-  options.rayOffsetEpsilon = cli.rayOffsetEpsilon;
-  options.filmDouble = cli.filmDouble;
-  options.specialize = cli.specialize;
-  options.triangleTest = cli.triangleTest;
-  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
-  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
-  return options;
-}
-
-RenderResult Render(const CliOptions& cli, const Scene& scene, SessionFactory makeSession,
-                    const RenderOptions& options) {
-  ProgressBar progress(cli.quiet);
-  RenderCallbacks callbacks;
-  callbacks.shouldStop = [] { return gInterrupted.load(std::memory_order_relaxed); };
-  callbacks.onProgress = [&progress](uint64_t done, uint64_t total) {
-    progress.Update(done, total);
-  };
-  if (cli.previewEverySeconds > 0.0) {
-    callbacks.onPreview = [&cli](const FilmImage& image) {
-      try {
-        WriteOutputs(cli, image);
-      } catch (const ImageError& e) {  // the final write reports it for good
-        std::fprintf(stderr, "\npathtracer: warning: preview not written: %s\n", e.what());
-      }
-    };
-  }
+// The images (the --hdr EXR resumable when the job kept its film) and the stats; returns the
+// files written.
+std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
+                                      const RenderJob& job, const JobOutcome& outcome,
+                                      AppTimes times, AppClock::time_point start) {
   try {
-    RenderResult result =
-        cli.chunks.value_or(1) > 1
-            ? RenderChunked(makeSession, scene, options, callbacks, uint32_t(*cli.chunks))
-            : makeSession(scene, options, callbacks)->Render();
-    progress.Finish();
-    return result;
-  } catch (const BackendUnavailable& e) {
+    ResumableState state{&outcome.film, job.options.filmDouble, job.description};
+    std::vector<std::string> written =
+        WriteImages(cli, outcome.result.image, outcome.keepState ? &state : nullptr);
+    if (!cli.statsJsonPath.empty()) {
+      times.totalMs = MsSince(start);
+      RunReport report = MakeReport(cli, scene, outcome, job.options.backend);
+      WriteStatsJson(cli.statsJsonPath, StatsToJson(outcome.result.stats, scene, times, report));
+      written.push_back(cli.statsJsonPath);
+    }
+    return written;
+  } catch (const ImageError& e) {
     throw AppFailure{kExitRuntimeFailure, e.what()};
   }
 }
 
-// One line saying what the scene needs simulated and which stage variant runs it.
-void PrintEffects(const Scene& scene, bool specialize) {
-  uint32_t effects = AnalyzeEffects(scene);
-  std::string names;
-  for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
-  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
-  std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
-               names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
-               specialize ? "" : " (--specialize off)");
-}
-
-void PrintSummary(const RenderResult& result) {
-  const RenderStats& s = result.stats;
-  RenderRates rates = ComputeRates(s);
-  std::string device = s.device.empty() ? s.backend : s.backend + ", " + s.device;
-  std::fprintf(stderr,
-               "pathtracer: %dx%d, %.1f spp in %.3f s on %s: %.2f Msamples/s, %.2f Mrays/s%s\n",
-               result.image.width, result.image.height, s.sppMean, s.renderMs / 1e3,
-               device.c_str(), rates.msamplesPerS, rates.mraysPerS,
-               s.interrupted ? " (interrupted)" : "");
-}
-
-int Run(const CliOptions& cli, const AppBackends& backends) {
+int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point start) {
   CheckOutputsWritable(cli);
   AppTimes times;
-  SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
-  Scene scene = Build(std::move(desc), &times.bvhBuildMs);
+  Scene scene = Build(LoadAndOverride(cli, &times.loadMs), &times.bvhBuildMs);
+  for (const std::string& warning : DarkSceneWarnings(scene)) Warn(warning);
   PrintEffects(scene, cli.specialize);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);
-  SessionFactory makeSession =
-      backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
-  InstallSigintHandler();
-  RenderOptions options =
-      MakeRenderOptions(cli, backend, cli.referencePath.empty() ? nullptr : &reference);
-  CheckChunkOptions(cli, scene, options, false);
-  RenderResult result = Render(cli, scene, makeSession, options);
-  bool interrupted = gInterrupted.load();
-  result.stats.interrupted = result.stats.interrupted || interrupted;
-  try {
-    WriteOutputs(cli, result.image);
-    if (!cli.statsJsonPath.empty()) {
-      WriteStatsJson(cli.statsJsonPath, StatsToJson(result.stats, scene, times));
-    }
-  } catch (const ImageError& e) {
-    throw AppFailure{kExitRuntimeFailure, e.what()};
-  }
-  PrintSummary(result);
-  return interrupted ? kExitInterrupted : kExitOk;
+  RenderJob job = MakeJob(cli, scene, backend, backends, cli.referencePath.empty() ? nullptr : &reference);
+  CheckChunkOptions(cli, scene, job.options, false);
+  std::optional<FilmState> resumed;
+  if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
+  job.resumeFrom = resumed ? &*resumed : nullptr;
+  InstallStopSignals();
+  JobOutcome outcome = RunRenderJob(job);
+  std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
+  PrintSummary(outcome);
+  PrintWritten(written, cli, outcome.keepState);
+  return outcome.reason == StopReason::kSignal ? 128 + outcome.signal : kExitOk;
 }
 
-}  // namespace app
+}  // namespace
 
 int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
   if (LauncherWorldSize() != 0) return RunMpiApp(argc, argv, backends);
@@ -252,6 +117,7 @@ int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
 }
 
 int RunProcess(int argc, const char* const* argv, const AppBackends& backends) {
+  AppClock::time_point start = AppClock::now();
   CliOptions cli;
   try {
     cli = ParseCli(argc, argv);
@@ -268,10 +134,16 @@ int RunProcess(int argc, const char* const* argv, const AppBackends& backends) {
     return kExitOk;
   }
   try {
-    return app::Run(cli, backends);
-  } catch (const app::AppFailure& failure) {
+    return Run(cli, backends, start);
+  } catch (const AppFailure& failure) {
     std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
     return failure.status;
+  } catch (const OutOfDeviceMemory& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", OutOfMemoryMessage(e, cli).c_str());
+    return kExitRuntimeFailure;
+  } catch (const BackendUnavailable& e) {
+    std::fprintf(stderr, "pathtracer: %s\n", e.what());
+    return kExitRuntimeFailure;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "pathtracer: out of memory\n");
     return kExitRuntimeFailure;

@@ -10,7 +10,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadCommandLine = 1;
 inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitRuntimeFailure = 3;
-inline constexpr int kExitInterrupted = 130;
+inline constexpr int kExitInterrupted = 130;  // SIGINT; any stop signal N exits 128 + N
 
 using SessionFactory = std::unique_ptr<RenderSession> (*)(const Scene&, const RenderOptions&,
                                                          const RenderCallbacks&);

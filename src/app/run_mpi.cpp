@@ -4,10 +4,8 @@
 // RenderDistributed splits the samples; rank 0 writes every output and the statistics.
 #include <malloc.h>
 #include <sched.h>
-#include <signal.h>
-#include <unistd.h>
 
-#include <atomic>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <limits>
@@ -15,70 +13,22 @@
 #include <optional>
 #include <thread>
 
+#include "src/app/app_failure.h"
+#include "src/app/outputs.h"
 #include "src/app/progress.h"
+#include "src/app/render_job.h"
 #include "src/app/run_steps.h"
 #include "src/app/stats_json.h"
+#include "src/app/stop_signals.h"
 #include "src/distributed/distributed.h"
 #include "src/distributed/fault_injection.h"
 #include "src/integrator/wave_plan.h"
 #include "src/io/image_io.h"
+#include "src/scene/scene_checks.h"
 
 namespace pt {
-namespace app {
-
-void CheckChunkOptions(const CliOptions& cli, const Scene& scene, const RenderOptions& options,
-                       bool distributed) {
-  if ((cli.rankTimeoutSeconds || cli.lanes) && !MpiBuilt()) {
-    throw AppFailure{kExitBadCommandLine,
-                     std::string(cli.lanes ? "--lanes" : "--rank-timeout") +
-                         ": this build has no MPI support (no MPI library was found when it "
-                         "was configured)"};
-  }
-  if (!distributed && cli.chunks.value_or(1) <= 1) return;
-  int spp = scene.desc.render.spp;
-  if (cli.chunks && *cli.chunks > spp) {
-    throw AppFailure{kExitBadCommandLine, "--chunks " + std::to_string(*cli.chunks) +
-                                              " is more than the " + std::to_string(spp) +
-                                              " samples per pixel"};
-  }
-  std::string where = distributed ? " across MPI ranks" : " with --chunks";
-  auto refuse = [&](const std::string& what, const std::string& hint) {
-    throw AppFailure{kExitBadCommandLine, what + " is not supported" + where + " yet" + hint};
-  };
-  if (AdaptiveRequested(scene, options)) refuse("adaptive sampling", ": add --adaptive off");
-  if (!cli.referencePath.empty()) refuse("--reference", "");
-  if (cli.previewEverySeconds > 0.0) refuse("--preview-every", "");
-}
-
-}  // namespace app
 
 namespace {
-
-using app::AppFailure;
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-std::atomic<bool> gRankInterrupted{false};
-
-// First Ctrl-C or SIGTERM (mpirun sends SIGTERM to every rank when it is interrupted or a rank
-// died): stop between waves, hand the films on, rank 0 writes. A second Ctrl-C: die.
-extern "C" void OnRankSignal(int signal) {
-  if (gRankInterrupted.exchange(true) && signal == SIGINT) {
-    ::signal(SIGINT, SIG_DFL);
-    raise(SIGINT);
-  }
-}
-
-void InstallRankSignalHandlers() {
-  struct sigaction action = {};
-  action.sa_handler = OnRankSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 // This rank's share of its host's cores: the cores mpirun bound it to, else an even share.
 // mpirun binds each of one or two ranks to a single core by default, which starves the
@@ -105,16 +55,17 @@ struct RankSetup {
   SessionFactory factory = nullptr;
   DistributedOptions distributed;
   AppTimes times;
+  double mpiInitMs = 0.0;
 };
 
 RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& backends) {
   RankSetup s;
-  if (job.Rank() == 0) app::CheckOutputsWritable(cli);
-  s.scene.emplace(app::Build(app::LoadAndOverride(cli, &s.times.loadMs), &s.times.bvhBuildMs));
-  BackendKind backend = app::ChooseBackend(cli.backend, backends);
+  if (job.Rank() == 0) CheckOutputsWritable(cli);
+  s.scene.emplace(Build(LoadAndOverride(cli, &s.times.loadMs), &s.times.bvhBuildMs));
+  BackendKind backend = ChooseBackend(cli.backend, backends);
   s.factory = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
-  s.options = app::MakeRenderOptions(cli, backend, nullptr);
-  app::CheckChunkOptions(cli, *s.scene, s.options, true);
+  s.options = MakeRenderOptions(cli, backend, nullptr);
+  CheckChunkOptions(cli, *s.scene, s.options, true);
   s.options.timeLimitSeconds = 0.0;  // rank 0 keeps the time for the whole job
   unsigned coresPerRank = CoresForThisRank(job);
   DistributedOptions& d = s.distributed;
@@ -211,33 +162,50 @@ void PrintRanks(const DistributedResult& r) {
                r.renderMs / 1e3, r.reductionMs, LoadBalance(r.ranks));
 }
 
+// What the job did, as the one-process flow describes a render (summary line, stats).
+JobOutcome Outcome(const DistributedResult& r) {
+  JobOutcome out;
+  out.result.image = ResolveFilmImage(r.film);
+  out.result.stats = SumOverRanks(r);
+  uint64_t filmSamples = 0;
+  for (uint32_t c : out.result.image.samples) filmSamples += c;
+  out.result.stats.sppMean = double(filmSamples) / double(std::max<size_t>(1, r.film.PixelCount()));
+  out.signal = r.signal;
+  if (r.status == kExitRuntimeFailure) out.reason = StopReason::kFailed;
+  else if (r.interrupted) out.reason = StopReason::kSignal;
+  else if (r.timeLimited) out.reason = StopReason::kTimeLimit;
+  return out;
+}
+
 // Rank 0 after the render: the image so far (if any sample arrived), statistics, summary.
 int FinishRoot(const CliOptions& cli, const RankSetup& s, const DistributedResult& r, int ranks,
-               double mpiInitMs) {
+               AppClock::time_point start) {
   if (!r.why.empty()) {
     std::fprintf(stderr, "pathtracer: the render ended early: %s; %s\n", r.why.c_str(),
                  r.samples ? "writing the image so far" : "no samples, nothing written");
   }
   if (r.samples == 0) return r.status != 0 ? r.status : kExitRuntimeFailure;
-  RenderResult result;
-  result.image = ResolveFilmImage(r.film);
-  result.stats = SumOverRanks(r);
-  uint64_t filmSamples = 0;
-  for (uint32_t c : result.image.samples) filmSamples += c;
-  result.stats.sppMean = double(filmSamples) / double(std::max<size_t>(1, r.film.PixelCount()));
+  JobOutcome outcome = Outcome(r);
+  std::vector<std::string> written;
   try {
-    app::WriteOutputs(cli, result.image);
+    // No resumable state: a film of chunks is not a per-pixel prefix of the samples.
+    written = WriteImages(cli, outcome.result.image, nullptr);
     if (!cli.statsJsonPath.empty()) {
-      nlohmann::ordered_json doc = StatsToJson(result.stats, *s.scene, s.times);
-      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, mpiInitMs, s.options.featureBuffers);
+      AppTimes times = s.times;
+      times.totalMs = MsSince(start);
+      RunReport report = MakeReport(cli, *s.scene, outcome, s.options.backend);
+      nlohmann::ordered_json doc = StatsToJson(outcome.result.stats, *s.scene, times, report);
+      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, s.mpiInitMs, s.options.featureBuffers);
       WriteStatsJson(cli.statsJsonPath, doc);
+      written.push_back(cli.statsJsonPath);
     }
   } catch (const ImageError& e) {
     std::fprintf(stderr, "pathtracer: %s\n", e.what());
     return kExitRuntimeFailure;
   }
-  app::PrintSummary(result);
+  PrintSummary(outcome);
   PrintRanks(r);
+  PrintWritten(written, cli, false);
   return r.status;
 }
 
@@ -260,63 +228,82 @@ void KeepFreedMemory() {
 #endif
 }
 
-int RunRanks(MpiJob& job, int argc, const char* const* argv, const AppBackends& backends,
-             double mpiInitMs) {
+// The command line and this rank's set-up, agreed on by every rank: the job's exit status
+// when it ends here (a bad command line, a failed set-up, --help), else nullopt.
+std::optional<int> Prepare(MpiJob& job, int argc, const char* const* argv,
+                           const AppBackends& backends, CliOptions* cli, RankSetup* s) {
   bool root = job.Rank() == 0;
-  KeepFreedMemory();
-  CliOptions cli;
   int status = 0;
   std::string message;
   try {
-    cli = ParseCli(argc, argv);
+    *cli = ParseCli(argc, argv);
   } catch (const CliError& e) {
     status = kExitBadCommandLine;
     message = std::string(e.what()) + " (see --help)";
   }
-  if (std::optional<int> failed = AgreeOn(job, status, message)) return *failed;
-  if (cli.help || cli.version) {
-    if (root && cli.help) std::fputs(CliUsage().c_str(), stdout);
-    if (root && cli.version) std::printf("pathtracer %s\n", PT_VERSION);
+  if (std::optional<int> failed = AgreeOn(job, status, message)) return failed;
+  if (cli->help || cli->version) {
+    if (root && cli->help) std::fputs(CliUsage().c_str(), stdout);
+    if (root && cli->version) std::printf("pathtracer %s\n", PT_VERSION);
     return kExitOk;
   }
-  RankSetup s;
   try {
-    s = SetUp(job, cli, backends);
+    *s = SetUp(job, *cli, backends);
   } catch (const AppFailure& f) {
     status = f.status, message = f.message;
+  } catch (const OutOfDeviceMemory& e) {
+    status = kExitRuntimeFailure, message = OutOfMemoryMessage(e, *cli);
   } catch (const std::bad_alloc&) {
     status = kExitRuntimeFailure, message = "out of memory";
   } catch (const std::exception& e) {
     status = kExitRuntimeFailure, message = e.what();
   }
-  if (std::optional<int> failed = AgreeOn(job, status, message)) return *failed;
-  std::vector<uint64_t> prints = job.AllGather(Fingerprint(*s.scene, s.options, s.distributed.chunks));
+  if (std::optional<int> failed = AgreeOn(job, status, message)) return failed;
+  std::vector<uint64_t> prints =
+      job.AllGather(Fingerprint(*s->scene, s->options, s->distributed.chunks));
   for (size_t r = 1; r < prints.size(); ++r) {
     if (prints[r] == prints[0]) continue;
     if (root) std::fprintf(stderr, "pathtracer: rank %zu's scene or settings differ from rank 0's "
                                    "(every rank must render the same scene with the same options)\n", r);
     return kExitBadCommandLine;
   }
-  InstallRankSignalHandlers();
-  if (root) app::PrintEffects(*s.scene, cli.specialize);
-  ProgressBar progress(cli.quiet || !root);
-  auto onProgress = [&](uint64_t done, uint64_t total) { progress.Update(done, total); };
+  return std::nullopt;
+}
+
+int RunRanks(MpiJob& job, int argc, const char* const* argv, const AppBackends& backends,
+             AppClock::time_point start, double mpiInitMs) {
+  bool root = job.Rank() == 0;
+  KeepFreedMemory();
+  CliOptions cli;
+  RankSetup s;
+  if (std::optional<int> ended = Prepare(job, argc, argv, backends, &cli, &s)) return *ended;
+  s.mpiInitMs = mpiInitMs;
+  InstallStopSignals();
+  if (root) {
+    for (const std::string& warning : DarkSceneWarnings(*s.scene)) Warn(warning);
+    PrintEffects(*s.scene, cli.specialize);
+  }
+  ProgressReporter progress(cli.quiet || !root, cli.progressEverySeconds);
+  uint64_t spp = uint64_t(s.scene->desc.render.spp);
+  auto onProgress = [&](uint64_t done, uint64_t total) {  // total: pixels x spp
+    progress.Update({done, done, total, std::max<uint64_t>(1, total / spp)});
+  };
   DistributedResult r;
   try {
     r = RenderDistributed(job, InjectFaults(s.factory, job.Rank()), *s.scene, s.options,
-                          s.distributed, onProgress, gRankInterrupted);
+                          s.distributed, onProgress, StopSignal);
   } catch (const std::exception& e) {
     progress.Finish();
     std::fprintf(stderr, "pathtracer: rank %d: %s; ending the job\n", job.Rank(), e.what());
     job.Abort(kExitRuntimeFailure);
   }
   progress.Finish();
-  status = root ? FinishRoot(cli, s, r, job.Size(), mpiInitMs) : r.status;
+  int status = root ? FinishRoot(cli, s, r, job.Size(), start) : r.status;
   if (root && r.rankLost) {
     std::fprintf(stderr, "pathtracer: ending the job: a rank is not answering\n");
     job.Abort(status);
   }
-  return job.ShareExitStatus(status, gRankInterrupted);
+  return job.ShareExitStatus(status, StopSignal);
 }
 
 }  // namespace
@@ -333,7 +320,7 @@ int RunMpiApp(int argc, const char* const* argv, const AppBackends& backends) {
                                : "");
     return kExitRuntimeFailure;
   }
-  Clock::time_point t0 = Clock::now();
+  AppClock::time_point start = AppClock::now();
   std::unique_ptr<MpiJob> job;
   try {
     job = MpiJob::Start();
@@ -344,7 +331,7 @@ int RunMpiApp(int argc, const char* const* argv, const AppBackends& backends) {
   // One rank is a plain run, bit for bit.
   if (job->Size() == 1) return RunProcess(argc, argv, backends);
   try {
-    return RunRanks(*job, argc, argv, backends, MsSince(t0));
+    return RunRanks(*job, argc, argv, backends, start, MsSince(start));
   } catch (const std::exception& e) {  // an MPI call failed during set-up
     std::fprintf(stderr, "pathtracer: rank %d: %s; ending the job\n", job->Rank(), e.what());
     job->Abort(kExitRuntimeFailure);

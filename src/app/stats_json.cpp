@@ -1,10 +1,11 @@
 #include "src/app/stats_json.h"
 
-#include "src/scene/effects.h"
+#include <sys/resource.h>
 
 #include <algorithm>
 
 #include "src/io/image_io.h"
+#include "src/scene/effects.h"
 
 namespace pt {
 namespace {
@@ -22,7 +23,8 @@ Json SceneJson(const Scene& scene) {
 
 Json TimesJson(const RenderStats& stats, const AppTimes& times) {
   const StageTimes& s = stats.stages;
-  return Json{{"load", times.loadMs},
+  return Json{{"total", times.totalMs},
+              {"load", times.loadMs},
               {"bvh_build", times.bvhBuildMs},
               {"upload", stats.uploadMs},
               {"render", stats.renderMs},
@@ -33,6 +35,27 @@ Json TimesJson(const RenderStats& stats, const AppTimes& times) {
                               {"shadow", s.shadow},
                               {"compact", s.compact},
                               {"accumulate", s.accumulate}}}};
+}
+
+// Peaks that mean something on each backend: the renderer's own buffers (device memory on a
+// GPU, host memory on the CPU) and the whole process's resident set.
+Json MemoryJson(const RenderStats& stats, const RunReport& run) {
+  return Json{{"renderer_buffers_peak_bytes", stats.peakDeviceBytes},
+              {"renderer_buffers_on", run.deviceMemory ? "device" : "host"},
+              {"process_peak_rss_bytes", run.peakRssBytes}};
+}
+
+Json RelMseJson(const RenderStats& stats) {
+  Json points = Json::array();
+  for (const auto& [seconds, value] : stats.referenceRelMse) {
+    points.push_back(Json{{"seconds", seconds}, {"relmse", value}});
+  }
+  return points;
+}
+
+Json ResumeJson(const RunReport& run) {
+  if (run.resumedFrom.empty()) return nullptr;
+  return Json{{"file", run.resumedFrom}, {"samples_before", run.resumedSamples}};
 }
 
 }  // namespace
@@ -48,18 +71,36 @@ RenderRates ComputeRates(const RenderStats& stats) {
   return {double(stats.samples) / microseconds, double(rays) / microseconds};
 }
 
-Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times) {
+size_t PeakRssBytes() {
+  struct rusage usage = {};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return size_t(usage.ru_maxrss) * 1024;  // kilobytes on Linux
+}
+
+Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times,
+                 const RunReport& run) {
   RenderRates rates = ComputeRates(stats);
-  Json relMse = Json::array();
-  for (const auto& [seconds, value] : stats.referenceRelMse) relMse.push_back({seconds, value});
+  bool stoppedEarly =
+      run.stopReason == "signal" || run.stopReason == "time_limit" || run.stopReason == "failed";
   return Json{
+      {"version", PT_VERSION},
+      {"command_line", run.commandLine},
+      {"scene_file", run.sceneFile},
       {"backend", stats.backend},
       {"device", stats.device},
       {"threads", stats.threads},
       {"scene", SceneJson(scene)},
       {"time_ms", TimesJson(stats, times)},
+      {"spp_requested", run.sppRequested},
       {"samples", stats.samples},
       {"spp_mean", stats.sppMean},
+      {"stop_reason", run.stopReason},
+      {"signal", run.signal.empty() ? Json(nullptr) : Json(run.signal)},
+      {"interrupted", stoppedEarly},
+      {"resumed", ResumeJson(run)},
+      {"checkpoints_written", run.checkpoints},
+      {"clamp_luminance", run.clampLuminance > 0.0f ? Json(run.clampLuminance) : Json(nullptr)},
+      {"biased", run.clampLuminance > 0.0f},
       {"rays", Json{{"camera", stats.cameraRays},
                     {"extension", stats.extensionRays},
                     {"shadow", stats.shadowRays}}},
@@ -70,10 +111,10 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
                    {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},
       {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
       {"paths_in_flight", stats.pathsInFlight},
-      {"peak_device_bytes", stats.peakDeviceBytes},
+      {"memory", MemoryJson(stats, run)},
+      {"peak_device_bytes", run.deviceMemory ? Json(stats.peakDeviceBytes) : Json(nullptr)},
       {"nonfinite_samples", stats.nonfiniteSamples},
-      {"interrupted", stats.interrupted},
-      {"reference_relmse", relMse},
+      {"reference_relmse", RelMseJson(stats)},
   };
 }
 

@@ -1,4 +1,5 @@
-// The --stats-json file of ../shared/cli.md: render statistics, scene facts and phase times.
+// The --stats-json file of ../shared/cli.md: render statistics, scene facts, phase times, and
+// what the run was (version, command line, scene file, why it stopped, where it resumed from).
 #pragma once
 
 #include <string>
@@ -14,6 +15,22 @@ namespace pt {
 struct AppTimes {
   double loadMs = 0.0;
   double bvhBuildMs = 0.0;
+  double totalMs = 0.0;  // the whole run, from the start of the program to the stats
+};
+
+// What the app knows of the run beyond the renderer's statistics.
+struct RunReport {
+  std::vector<std::string> commandLine;
+  std::string sceneFile;
+  int sppRequested = 0;
+  std::string stopReason = "completed";  // completed, time_limit, signal, converged, failed
+  std::string signal;                    // "SIGTERM" when stopped by one, else empty
+  float clampLuminance = 0.0f;           // > 0: the firefly clamp (a biased estimate)
+  std::string resumedFrom;               // the --resume file, or empty
+  uint64_t resumedSamples = 0;           // samples the film held when resumed
+  int checkpoints = 0;                   // resumable states written during the render
+  bool deviceMemory = false;             // the renderer's buffers live on a GPU
+  size_t peakRssBytes = 0;               // the process's peak resident set
 };
 
 // Millions of samples and of rays (camera, extension, shadow) per second of render time.
@@ -27,8 +44,12 @@ RenderRates ComputeRates(const RenderStats& stats);
 // "depth_of_field". Only materials some primitive uses count.
 std::vector<std::string> SceneEffectNames(const Scene& scene);
 
+// The process's peak resident set size in bytes (getrusage), 0 where unknown.
+size_t PeakRssBytes();
+
 // The whole document: exactly the keys of the schema, in its order.
-nlohmann::ordered_json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times);
+nlohmann::ordered_json StatsToJson(const RenderStats& stats, const Scene& scene,
+                                   const AppTimes& times, const RunReport& run);
 
 // Writes the document through a temporary file and a rename; throws ImageError on failure.
 void WriteStatsJson(const std::string& path, const nlohmann::ordered_json& document);

@@ -6,7 +6,6 @@
 // or no_mpi.cpp (which refuses).
 #pragma once
 
-#include <atomic>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -26,6 +25,10 @@ struct MpiUnavailable : std::runtime_error {
 struct MpiFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// This process's stop signal: the number of the first SIGINT, SIGTERM or SIGHUP it received,
+// 0 while none has come (the app's StopSignal).
+using StopSignalSource = std::function<int()>;
 
 bool MpiBuilt();
 
@@ -53,8 +56,9 @@ class MpiJob {
   virtual std::vector<uint64_t> AllGather(uint64_t value) = 0;
 
   // Rank 0, once the outputs are written: tells every rank the job's exit status. The other
-  // ranks wait for it (leaving early when `interrupted` turns true) and return it.
-  virtual int ShareExitStatus(int status, const std::atomic<bool>& interrupted) = 0;
+  // ranks wait for it (leaving early, with `status`, once this rank has a stop signal) and
+  // return it.
+  virtual int ShareExitStatus(int status, const StopSignalSource& stopSignal) = 0;
   // Ends every rank of the job now, with this exit status (a rank stopped answering).
   [[noreturn]] virtual void Abort(int status) = 0;
 };
@@ -76,19 +80,20 @@ struct DistributedResult {
   double reductionMs = 0.0;    // from the last rank's last leaf to the root film
   uint32_t leavesRendered = 0; // leaves in the root (rendered whole or in part)
   uint64_t samples = 0;
-  bool interrupted = false;    // Ctrl-C or SIGTERM on some rank
+  bool interrupted = false;    // a stop signal (Ctrl-C, SIGTERM, SIGHUP) on some rank
+  int signal = 0;              // the first one rank 0 knows of (its own, or a rank's report)
   bool timeLimited = false;
   std::string why;             // why the job ended early, naming the rank; empty if not
   bool rankLost = false;       // a rank stopped answering: the job must be aborted
-  int status = 0;              // 0; 3 a rank failed or was lost; 130 interrupted
+  int status = 0;              // 0; 3 a rank failed or was lost; 128 + signal interrupted
 };
 
-// Collective over the job. `interrupted` is this process's Ctrl-C/SIGTERM flag; onProgress
+// Collective over the job. `stopSignal` is this process's stop signal; onProgress
 // (rank 0) gets the samples done by every rank and the total.
 DistributedResult RenderDistributed(MpiJob& job, const SessionMaker& make, const Scene& scene,
                                     const RenderOptions& options,
                                     const DistributedOptions& distributed,
                                     const std::function<void(uint64_t, uint64_t)>& onProgress,
-                                    const std::atomic<bool>& interrupted);
+                                    const StopSignalSource& stopSignal);
 
 }  // namespace pt

@@ -20,7 +20,7 @@ enum Tag : int {
   kTagRequest = 101,    // worker -> 0: int32 lane wants a leaf
   kTagGrant,            // 0 -> worker: int32 {lane, leaf or -1 = none}
   kTagProgress,         // worker -> 0: uint64 samples so far (also says "alive")
-  kTagEvent,            // worker -> 0: int32 kind, then text (interrupted, failed)
+  kTagEvent,            // worker -> 0: int32 kind, then int32 signal or text (interrupted, failed)
   kTagStop,             // 0 -> worker: int32 StopReason
   kTagHeartbeat,        // 0 -> worker: int32 0 (rank 0 is alive)
   kTagHandedOver,       // worker -> 0: int32 parent (its films went up the tree)
@@ -45,7 +45,7 @@ class MpiJobImpl final : public MpiJob {
   std::string Host() const override { return host_; }
   std::pair<int, std::string> Agree(int status, const std::string& message) override;
   std::vector<uint64_t> AllGather(uint64_t value) override;
-  int ShareExitStatus(int status, const std::atomic<bool>& interrupted) override;
+  int ShareExitStatus(int status, const StopSignalSource& stopSignal) override;
   [[noreturn]] void Abort(int status) override;
 
   MPI_Comm Comm() const { return comm_; }

@@ -70,7 +70,7 @@ std::vector<uint64_t> MpiJobImpl::AllGather(uint64_t value) {
   return all;
 }
 
-int MpiJobImpl::ShareExitStatus(int status, const std::atomic<bool>& interrupted) {
+int MpiJobImpl::ShareExitStatus(int status, const StopSignalSource& stopSignal) {
   if (rank_ == 0) {
     Outbox outbox(comm_);
     for (int r = 1; r < size_; ++r) outbox.SendValue(r, kTagDone, int32_t(status));
@@ -82,7 +82,7 @@ int MpiJobImpl::ShareExitStatus(int status, const std::atomic<bool>& interrupted
   std::vector<char> bytes;
   int from = 0;
   while (!TryReceive(comm_, 0, kTagDone, &bytes, &from)) {
-    if (interrupted.load()) return status;
+    if (stopSignal() != 0) return status;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return ValueOf<int32_t>(bytes);

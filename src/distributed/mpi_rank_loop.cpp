@@ -31,10 +31,10 @@ std::set<int> Children(int rank, int size) {
 RankLoop::RankLoop(MpiJobImpl& job, const SessionMaker& make, const Scene& scene,
                    const RenderOptions& options, const DistributedOptions& distributed,
                    const std::function<void(uint64_t, uint64_t)>& onProgress,
-                   const std::atomic<bool>& interrupted)
+                   const StopSignalSource& stopSignal)
     : job_(job), comm_(job.Comm()), rank_(job.Rank()), size_(job.Size()), make_(make),
       scene_(scene), options_(options), distributed_(distributed), onProgress_(onProgress),
-      interrupted_(interrupted), tree_(uint32_t(scene.desc.render.spp), distributed.chunks),
+      stopSignal_(stopSignal), tree_(uint32_t(scene.desc.render.spp), distributed.chunks),
       assembler_(tree_, distributed.mergeThreads), outbox_(job.Comm()) {
   childrenLeft_ = Children(rank_, size_);
   const RenderSettings& r = scene.desc.render;
@@ -227,8 +227,12 @@ bool RankLoop::PollRootControl() {
     lastHeard_[size_t(from)] = now;
     std::string text(bytes.begin() + std::min<size_t>(4, bytes.size()), bytes.end());
     std::string who = "rank " + std::to_string(from);
-    if (ValueOf<int32_t>(bytes) == kEventFailed) StopAll(kStopFailure, who + ": " + text);
-    else StopAll(kStopInterrupt, who + " was interrupted");
+    if (ValueOf<int32_t>(bytes) == kEventFailed) {
+      StopAll(kStopFailure, who + ": " + text);
+    } else {
+      if (signal_ == 0) signal_ = ValueOf<int32_t>(bytes, sizeof(int32_t));
+      StopAll(kStopInterrupt, who + " was interrupted");
+    }
     busy = true;
   }
   return busy;
@@ -262,13 +266,15 @@ bool RankLoop::PollWorkerControl() {
 
 void RankLoop::CheckTimers() {
   Clock::time_point now = Clock::now();
-  if (interrupted_.load() && !signalSeen_) {
+  int signal = signalSeen_ ? 0 : stopSignal_();
+  if (signal != 0) {
     signalSeen_ = true;
+    if (signal_ == 0) signal_ = signal;
     if (IsRoot()) {
-      StopAll(kStopInterrupt, "rank 0 was interrupted (Ctrl-C or SIGTERM; mpirun sends SIGTERM "
+      StopAll(kStopInterrupt, "rank 0 was interrupted (a stop signal; mpirun sends SIGTERM "
                               "to every rank when it is interrupted or a rank dies)");
     } else {
-      outbox_.SendValue(0, kTagEvent, int32_t(kEventInterrupted));
+      outbox_.SendValue(0, kTagEvent, std::array<int32_t, 2>{kEventInterrupted, signal});
       StopLocal(kStopInterrupt);
     }
   }

@@ -29,7 +29,7 @@ class RankLoop {
   RankLoop(MpiJobImpl& job, const SessionMaker& make, const Scene& scene,
            const RenderOptions& options, const DistributedOptions& distributed,
            const std::function<void(uint64_t, uint64_t)>& onProgress,
-           const std::atomic<bool>& interrupted);
+           const StopSignalSource& stopSignal);
   DistributedResult Run();
 
  private:
@@ -69,7 +69,7 @@ class RankLoop {
   RenderOptions options_;
   DistributedOptions distributed_;
   const std::function<void(uint64_t, uint64_t)>& onProgress_;
-  const std::atomic<bool>& interrupted_;
+  const StopSignalSource& stopSignal_;
 
   ChunkTree tree_;
   uint32_t filmWidth_ = 0, filmHeight_ = 0;  // the crop window's
@@ -85,7 +85,8 @@ class RankLoop {
   RankReport own_;
 
   StopReason stop_ = kStopNone;
-  bool flat_ = false, signalSeen_ = false;
+  bool flat_ = false, signalSeen_ = false;  // signalSeen_: this rank's own stop signal
+  int signal_ = 0;  // rank 0: the first stop signal of the job
   Clock::time_point stopAt_;
   std::string why_;  // the first reason to stop early
 

@@ -1,5 +1,6 @@
 // The films' way up the tree of ranks, the end of a rank's loop, and RenderDistributed.
 #include <algorithm>
+#include <csignal>
 
 #include "src/distributed/film_merge.h"
 #include "src/distributed/mpi_rank_loop.h"
@@ -99,7 +100,10 @@ DistributedResult RankLoop::Finish() {
   result.timeLimited = stop_ == kStopTimeLimit;
   result.why = why_;
   result.rankLost = !lost_.empty();
-  result.status = stop_ >= kStopFailure ? 3 : result.interrupted ? 130 : 0;
+  // A worker stopped by rank 0 for another rank's signal knows no number: its status is
+  // replaced by rank 0's (ShareExitStatus) anyway.
+  result.signal = result.interrupted ? (signal_ != 0 ? signal_ : SIGINT) : 0;
+  result.status = stop_ >= kStopFailure ? 3 : result.interrupted ? 128 + result.signal : 0;
   if (!IsRoot()) return result;
   own_.mergeMs = assembler_.MergeMs();
   reports_.push_back(own_);
@@ -135,9 +139,9 @@ DistributedResult RenderDistributed(MpiJob& job, const SessionMaker& make, const
                                     const RenderOptions& options,
                                     const DistributedOptions& distributed,
                                     const std::function<void(uint64_t, uint64_t)>& onProgress,
-                                    const std::atomic<bool>& interrupted) {
+                                    const StopSignalSource& stopSignal) {
   mpi::RankLoop loop(dynamic_cast<mpi::MpiJobImpl&>(job), make, scene, options, distributed,
-                     onProgress, interrupted);
+                     onProgress, stopSignal);
   return loop.Run();
 }
 

@@ -15,7 +15,7 @@ std::unique_ptr<MpiJob> MpiJob::Start() {
 DistributedResult RenderDistributed(MpiJob&, const SessionMaker&, const Scene&,
                                     const RenderOptions&, const DistributedOptions&,
                                     const std::function<void(uint64_t, uint64_t)>&,
-                                    const std::atomic<bool>&) {
+                                    const StopSignalSource&) {
   throw MpiUnavailable("this build has no MPI support");
 }
 

@@ -43,6 +43,7 @@ struct RenderOptions {
   TriangleTest triangleTest = TriangleTest::kWatertight;
   bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
   int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
+  float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -107,6 +108,16 @@ struct RenderResult {
 // A backend that cannot run here (not built, no GPU): exit status 3 in the app.
 struct BackendUnavailable : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+// A device allocation that did not fit: what was asked, what the renderer already held, and
+// what the device had free of its total (bytes). Exit status 3 in the app, with a hint.
+struct OutOfDeviceMemory : std::runtime_error {
+  OutOfDeviceMemory(const std::string& what, size_t requested, size_t held, size_t freeBytes,
+                    size_t totalBytes)
+      : std::runtime_error(what), requestedBytes(requested), heldBytes(held),
+        deviceFreeBytes(freeBytes), deviceTotalBytes(totalBytes) {}
+  size_t requestedBytes, heldBytes, deviceFreeBytes, deviceTotalBytes;
 };
 
 RenderResult RenderCpu(const Scene& scene, const RenderOptions& options,

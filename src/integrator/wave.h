@@ -43,6 +43,7 @@ struct IntegratorParams {
   uint32_t minBounces, maxBounces;  // light paths counted (--light-paths)
   float rayOffsetEpsilon;           // 0: robust error-bound offsets
   uint32_t featureBuffers;          // write first-hit albedo, normal, depth
+  float clampLuminance;             // > 0: the firefly clamp of each sample (accumulate)
 
   // Light that reached the camera after this many bounces is counted.
   PT_HDI bool Counts(uint32_t bounces) const {

@@ -244,8 +244,9 @@ class WavefrontIntegrator {
     PathState ps = pathState_;
     FilmView film = film_;
     Counter* counters = counters_.Data();
+    float clamp = params_.clampLuminance;
     backend_.ParallelFor(Stage::kAccumulate, wave.pixelCount, [=] PT_HD(uint32_t i) {
-      AccumulatePixel(wave, ps, film, i, counters);
+      AccumulatePixel(wave, ps, film, i, counters, clamp);
     });
   }
 

@@ -17,6 +17,7 @@ inline IntegratorParams MakeParams(const RenderSettings& r, const RenderOptions&
   if (o.lightPaths == LightPaths::kDirect) p.maxDepth = std::min(p.maxDepth, 1);
   p.rayOffsetEpsilon = o.rayOffsetEpsilon;
   p.featureBuffers = o.featureBuffers ? 1u : 0u;
+  p.clampLuminance = o.clampLuminance;
   return p;
 }
 
@@ -33,6 +34,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.triangleTest = o.triangleTest;
   options_.timeLimitSeconds = o.timeLimitSeconds;
   options_.previewEverySeconds = o.previewEverySeconds;
+  options_.clampLuminance = o.clampLuminance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   sort_ = flags.sort;

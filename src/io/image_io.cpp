@@ -21,7 +21,8 @@
 #pragma GCC diagnostic ignored "-Wunused-function"
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
-#include <tinyexr.h>
+
+#include "src/io/exr_codec.h"
 
 namespace pt {
 namespace {
@@ -101,80 +102,8 @@ std::string EncodePfm(const FilmImage& image) {
   return out;
 }
 
-// Planar channels in the alphabetical order OpenEXR readers expect.
-struct ExrChannel {
-  std::string name;
-  int pixelType;
-  std::vector<uint8_t> data;
-};
-
-ExrChannel PlanarFloat(const std::string& name, const std::vector<float>& interleaved, int c) {
-  size_t pixels = interleaved.size() / 3;
-  ExrChannel ch{name, TINYEXR_PIXELTYPE_FLOAT, std::vector<uint8_t>(pixels * 4)};
-  float* out = reinterpret_cast<float*>(ch.data.data());
-  for (size_t i = 0; i < pixels; ++i) out[i] = interleaved[i * 3 + c];
-  return ch;
-}
-
-std::string EncodeExr(const std::string& path, const FilmImage& image, bool withExtras) {
-  std::vector<ExrChannel> channels;
-  for (int c : {2, 1, 0}) channels.push_back(PlanarFloat(std::string(1, "RGB"[c]), image.rgb, c));
-  size_t pixels = size_t(image.width) * image.height;
-  if (withExtras && image.samples.size() == pixels) {
-    ExrChannel ch{"samples", TINYEXR_PIXELTYPE_UINT, std::vector<uint8_t>(pixels * 4)};
-    std::memcpy(ch.data.data(), image.samples.data(), pixels * 4);
-    channels.push_back(std::move(ch));
-  }
-  if (withExtras && image.variance.size() == pixels * 3) {
-    for (int c : {2, 1, 0}) {
-      channels.push_back(PlanarFloat(std::string("variance.") + "RGB"[c], image.variance, c));
-    }
-  }
-  // First-hit feature buffers for denoisers (albedo, normal) and the hit distance as Z.
-  if (withExtras && image.albedo.size() == pixels * 3) {
-    for (int c = 0; c < 3; ++c) {
-      channels.push_back(PlanarFloat(std::string("albedo.") + "RGB"[c], image.albedo, c));
-      channels.push_back(PlanarFloat(std::string("normal.") + "XYZ"[c], image.normal, c));
-    }
-    ExrChannel z{"Z", TINYEXR_PIXELTYPE_FLOAT, std::vector<uint8_t>(pixels * 4)};
-    std::memcpy(z.data.data(), image.depth.data(), pixels * 4);
-    channels.push_back(std::move(z));
-  }
-  std::sort(channels.begin(), channels.end(),
-            [](const ExrChannel& a, const ExrChannel& b) { return a.name < b.name; });
-  std::vector<EXRChannelInfo> infos(channels.size());
-  std::vector<int> types(channels.size());
-  std::vector<unsigned char*> planes(channels.size());
-  for (size_t i = 0; i < channels.size(); ++i) {
-    std::memset(&infos[i], 0, sizeof(EXRChannelInfo));
-    std::snprintf(infos[i].name, sizeof(infos[i].name), "%s", channels[i].name.c_str());
-    types[i] = channels[i].pixelType;
-    planes[i] = channels[i].data.data();
-  }
-  EXRHeader header;
-  InitEXRHeader(&header);
-  header.num_channels = int(channels.size());
-  header.channels = infos.data();
-  header.pixel_types = types.data();
-  header.requested_pixel_types = types.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  EXRImage exr;
-  InitEXRImage(&exr);
-  exr.num_channels = int(channels.size());
-  exr.images = planes.data();
-  exr.width = image.width;
-  exr.height = image.height;
-  unsigned char* memory = nullptr;
-  const char* err = nullptr;
-  size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
-  if (size == 0) {
-    std::string message = path + ": EXR encoding failed" + (err ? std::string(": ") + err : "");
-    if (err) FreeEXRErrorMessage(err);
-    throw ImageError(message);
-  }
-  std::string out(reinterpret_cast<char*>(memory), size);
-  std::free(memory);
-  return out;
+std::string EncodeImageExr(const std::string& path, const FilmImage& image, bool withExtras) {
+  return EncodeExr(path, image.width, image.height, ImageExrChannels(image, withExtras));
 }
 
 }  // namespace
@@ -260,7 +189,7 @@ void WriteImage(const std::string& path, const FilmImage& image, bool withExtras
   std::string bytes;
   switch (format) {
     case ImageFormat::kPng: bytes = EncodePng(path, image); break;
-    case ImageFormat::kExr: bytes = EncodeExr(path, image, withExtras); break;
+    case ImageFormat::kExr: bytes = EncodeImageExr(path, image, withExtras); break;
     case ImageFormat::kPfm: bytes = EncodePfm(image); break;
   }
   WriteFileAtomic(path, bytes);

@@ -9,82 +9,11 @@
 #include <fstream>
 #include <sstream>
 
-#include <tinyexr.h>
-
+#include "src/io/exr_codec.h"
 #include "src/io/image_io.h"
 
 namespace pt {
 namespace {
-
-// Owns a parsed scanline EXR and frees it on every path out.
-class ExrFile {
- public:
-  explicit ExrFile(const std::string& path) : path_(path) {
-    InitEXRHeader(&header_);
-    InitEXRImage(&image_);
-    EXRVersion version;
-    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) {
-      throw ImageError(path + ": not a readable EXR file");
-    }
-    if (version.multipart || version.non_image) {
-      throw ImageError(path + ": multi-part and deep EXR files are not supported");
-    }
-    const char* err = nullptr;
-    Check(ParseEXRHeaderFromFile(&header_, &version, path.c_str(), &err), err);
-    headerParsed_ = true;
-    for (int i = 0; i < header_.num_channels; ++i) {
-      if (header_.pixel_types[i] == TINYEXR_PIXELTYPE_HALF) {
-        header_.requested_pixel_types[i] = TINYEXR_PIXELTYPE_FLOAT;
-      }
-    }
-    Check(LoadEXRImageFromFile(&image_, &header_, path.c_str(), &err), err);
-    imageLoaded_ = true;
-  }
-  ~ExrFile() {
-    if (imageLoaded_) FreeEXRImage(&image_);
-    if (headerParsed_) FreeEXRHeader(&header_);
-  }
-  ExrFile(const ExrFile&) = delete;
-  ExrFile& operator=(const ExrFile&) = delete;
-
-  bool Tiled() const { return header_.tiled != 0 || image_.images == nullptr; }
-  int Width() const { return image_.width; }
-  int Height() const { return image_.height; }
-
-  // The channel's pixels as floats, or false when the file has no such channel.
-  bool Channel(const std::string& name, std::vector<float>* out) const {
-    for (int c = 0; c < header_.num_channels; ++c) {
-      if (name != header_.channels[c].name) continue;
-      size_t pixels = size_t(image_.width) * size_t(image_.height);
-      out->resize(pixels);
-      const unsigned char* plane = image_.images[c];
-      for (size_t i = 0; i < pixels; ++i) {
-        if (header_.pixel_types[c] == TINYEXR_PIXELTYPE_UINT) {
-          uint32_t v;
-          std::memcpy(&v, plane + i * 4, 4);
-          (*out)[i] = float(v);
-        } else {
-          std::memcpy(&(*out)[i], plane + i * 4, 4);
-        }
-      }
-      return true;
-    }
-    return false;
-  }
-
- private:
-  void Check(int status, const char* err) {
-    if (status == TINYEXR_SUCCESS) return;
-    std::string message = path_ + ": cannot read EXR" + (err ? std::string(": ") + err : "");
-    if (err) FreeEXRErrorMessage(err);
-    throw ImageError(message);
-  }
-
-  std::string path_;
-  EXRHeader header_;
-  EXRImage image_;
-  bool headerParsed_ = false, imageLoaded_ = false;
-};
 
 // tinyexr's own RGBA loader: handles tiled files and single-channel (Y or A) images.
 void ReadExrRgbFallback(const std::string& path, int* width, int* height,

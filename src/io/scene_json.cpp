@@ -1,5 +1,7 @@
 #include "src/io/scene_json.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -44,6 +46,36 @@ std::string StripExceptionId(const std::string& what) {
 }
 
 const char* TypeName(const Json& j) { return j.type_name(); }
+
+bool IsTokenChar(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+}
+
+// The bare word or number the parser stopped in (byteAfter: its `byte`, one past the last
+// character read), and whether it starts a value (after '[', ',' or ':'), not a stray token.
+struct FailedToken {
+  std::string text;
+  char before = 0;  // the character before it, whitespace skipped
+};
+
+FailedToken TokenAt(const std::string& json, size_t byteAfter) {
+  size_t end = std::min(byteAfter, json.size()), start = end;
+  if (start > 0 && !IsTokenChar(json[start - 1])) return {};
+  while (start > 0 && IsTokenChar(json[start - 1])) --start;
+  while (end < json.size() && IsTokenChar(json[end])) ++end;
+  FailedToken token{json.substr(start, end - start)};
+  size_t b = start;
+  while (b > 0 && std::isspace(static_cast<unsigned char>(json[b - 1]))) --b;
+  if (b > 0) token.before = json[b - 1];
+  return token;
+}
+
+// NaN, Infinity, inf in any case and sign: numbers JavaScript knows but JSON does not.
+bool IsNonFiniteWord(std::string word) {
+  if (!word.empty() && (word[0] == '-' || word[0] == '+')) word.erase(0, 1);
+  for (char& c : word) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return word == "nan" || word == "inf" || word == "infinity";
+}
 
 }  // namespace
 
@@ -125,7 +157,17 @@ Json ParseSceneJson(const std::string& text, const std::string& file) {
     FailAt(file, FramesPath(frames, frames.size()),
            StripExceptionId(e.what()) + " (not a finite number)");
   } catch (const Json::parse_error& e) {
+    FailedToken token = TokenAt(text, e.byte);
+    // A value that failed to parse after '[' or ',' is the array's next element, not its
+    // last good one (nlohmann says "while parsing value" when no value came of the token).
+    bool valueFailed = std::string(e.what()).find("while parsing value") != std::string::npos;
+    bool startsValue = token.before == '[' || token.before == ',' || token.before == ':';
+    bool inArray = !frames.empty() && !frames.back().isObject;
+    if (valueFailed && inArray && token.before != ':') frames.back().index++;
     std::string near = FramesPath(frames, frames.size());
+    if (valueFailed && startsValue && IsNonFiniteWord(token.text)) {
+      FailAt(file, near, token.text + " is not a finite number (JSON has no NaN or Infinity)");
+    }
     FailAt(file, "",
            "malformed JSON" + (near.empty() ? std::string() : " near " + near) + ": " +
                StripExceptionId(e.what()));

@@ -1,5 +1,7 @@
 // Stage 7, accumulate: each pixel adds its finished samples of this wave to the film, in
-// sample order. Non-finite samples are counted and dropped (the non-finite firewall).
+// sample order. Non-finite samples are counted and dropped (the non-finite firewall). With a
+// firefly clamp, a sample brighter than the clamp luminance is scaled down to it (hue kept):
+// biased, but it tames rare very bright paths.
 #pragma once
 
 #include "src/integrator/film.h"
@@ -9,7 +11,8 @@
 namespace pt {
 
 PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
-                            uint32_t localPixel, Counter* counters) {
+                            uint32_t localPixel, Counter* counters,
+                            float clampLuminance = 0.0f) {
   uint32_t pixel = wave.FilmPixelOf(localPixel);
   uint32_t n = film.sampleCount[pixel];
   float lumMean = film.lumMean[pixel], lumM2 = film.lumM2[pixel];
@@ -25,6 +28,8 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
       ++nonfinite;
       l = vec3(0.0f);
     }
+    float y = Luminance(l);
+    if (clampLuminance > 0.0f && y > clampLuminance) l *= clampLuminance / y;
     ++n;
     if (film.meanDouble) WelfordAdd(meanD, m2D, glm::dvec3(l), double(n));
     else WelfordAdd(mean, m2, l, float(n));

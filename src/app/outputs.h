@@ -1,0 +1,31 @@
+// The files a render writes: -o, --hdr (a resumable state when asked), --spp-map; checked for
+// writability before anything is loaded.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "src/app/cli.h"
+#include "src/integrator/render_api.h"
+
+namespace pt {
+
+// Throws AppFailure (exit status 3) naming the first output that cannot be written.
+void CheckOutputsWritable(const CliOptions& cli);
+
+// A film state to keep in the --hdr EXR beside the image, so that --resume can continue it.
+struct ResumableState {
+  const FilmState* film = nullptr;
+  bool doubleFilm = false;
+  std::string description;  // the render's description (src/app/resume.h), as JSON text
+};
+
+// Writes -o, --hdr (with the state when given and --hdr is an EXR) and --spp-map; returns the
+// files written, in that order. Throws ImageError.
+std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& image,
+                                     const ResumableState* state);
+
+// A checkpoint: the --hdr EXR with the state. Throws ImageError.
+void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const ResumableState& state);
+
+}  // namespace pt

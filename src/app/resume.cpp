@@ -1,0 +1,128 @@
+#include "src/app/resume.h"
+
+#include <algorithm>
+
+#include "src/app/app_failure.h"
+#include "src/app/run.h"
+#include "src/io/film_state_exr.h"
+#include "src/io/image_io.h"
+#include "src/io/scene_files.h"
+
+namespace pt {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr int kDescriptionFormat = 1;
+
+// The keys that must be equal, with the words a message uses for each.
+constexpr std::pair<const char*, const char*> kIdentity[] = {
+    {"scene_hash", "scene files (the scene and the files it names, by content)"},
+    {"image_size", "image size"},
+    {"crop", "crop window"},
+    {"seed", "seed"},
+    {"max_depth", "max depth"},
+    {"rr_depth", "Russian roulette depth"},
+    {"integrator", "integrator"},
+    {"light_paths", "light paths"},
+    {"clamp", "firefly clamp"},
+    {"ray_offset", "ray offset"},
+    {"tri_test", "triangle test"},
+    {"adaptive", "adaptive sampling"},
+};
+
+const char* IntegratorName(IntegratorMode m) {
+  return m == IntegratorMode::kBsdf ? "bsdf" : m == IntegratorMode::kNee ? "nee" : "mis";
+}
+
+const char* LightPathsName(LightPaths l) {
+  return l == LightPaths::kDirect ? "direct" : l == LightPaths::kIndirect ? "indirect" : "all";
+}
+
+std::string Text(const Json& j) { return j.is_string() ? j.get<std::string>() : j.dump(); }
+
+[[noreturn]] void Refuse(const CliOptions& cli, const std::string& why) {
+  throw AppFailure{kExitBadInput, cli.resumePath + ": cannot resume: " + why};
+}
+
+// Each identity key that differs, one per line.
+std::string Differences(const Json& saved, const Json& current) {
+  std::string lines;
+  for (const auto& [key, words] : kIdentity) {
+    Json was = saved.contains(key) ? saved[key] : Json(nullptr);
+    if (was == current[key]) continue;
+    lines += std::string("\n  ") + words + ": " +
+             (std::string(key) == "scene_hash"
+                  ? "changed since the checkpoint (" + Text(current["scene_file"]) + ")"
+                  : Text(was) + " in the checkpoint, " + Text(current[key]) + " now");
+  }
+  return lines;
+}
+
+}  // namespace
+
+Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptions& options,
+                    bool adaptive) {
+  const RenderSettings& r = scene.desc.render;
+  CropWindow crop = options.crop;
+  std::string cropText = crop.Empty() ? "whole image"
+                                      : std::to_string(crop.x0) + " " + std::to_string(crop.y0) +
+                                            " " + std::to_string(crop.x1) + " " +
+                                            std::to_string(crop.y1);
+  return Json{
+      {"format", kDescriptionFormat},
+      {"version", PT_VERSION},
+      {"scene_file", cli.scenePath},
+      {"scene_hash", HashHex(HashFiles(SceneInputFiles(cli.scenePath)))},
+      {"image_size", std::to_string(r.width) + "x" + std::to_string(r.height)},
+      {"crop", cropText},
+      {"seed", r.seed},
+      {"spp", r.spp},
+      {"max_depth", r.maxDepth},
+      {"rr_depth", r.russianRouletteDepth >= kRussianRouletteOff ? Json("off")
+                                                                 : Json(r.russianRouletteDepth)},
+      {"integrator", IntegratorName(options.integrator)},
+      {"light_paths", LightPathsName(options.lightPaths)},
+      {"clamp", options.clampLuminance > 0.0f ? Json(options.clampLuminance) : Json("off")},
+      {"ray_offset", options.rayOffsetEpsilon > 0.0f ? Json(options.rayOffsetEpsilon)
+                                                     : Json("robust")},
+      {"tri_test", options.triangleTest == TriangleTest::kMollerTrumbore ? "mt" : "watertight"},
+      {"adaptive", adaptive},
+      {"film", options.filmDouble ? "double" : "float"},
+  };
+}
+
+FilmState LoadResumeFilm(const CliOptions& cli, const std::string& currentText) {
+  Json current = Json::parse(currentText);
+  ResumableExr saved;
+  try {
+    saved = ReadResumableExr(cli.resumePath);
+  } catch (const ImageError& e) {
+    throw AppFailure{kExitBadInput, e.what()};
+  }
+  Json description = Json::parse(saved.description, nullptr, false);
+  if (!description.is_object() || description.value("format", 0) != kDescriptionFormat) {
+    Refuse(cli, "its state was written by another version of the renderer (" +
+                    saved.description.substr(0, 80) + ")");
+  }
+  std::string differences = Differences(description, current);
+  if (!differences.empty()) {
+    Refuse(cli, "it is a render of another scene or with other settings:" + differences);
+  }
+  if (current["adaptive"].get<bool>()) {
+    Refuse(cli, "resuming an adaptive render is not supported yet (--adaptive off renders "
+                "one that can be resumed)");
+  }
+  uint32_t most = saved.film.count.empty()
+                      ? 0
+                      : *std::max_element(saved.film.count.begin(), saved.film.count.end());
+  int spp = current["spp"].get<int>();
+  if (most > uint32_t(spp)) {
+    Refuse(cli, "its pixels hold up to " + std::to_string(most) + " samples, more than the " +
+                    std::to_string(spp) + " spp asked for now (give --spp " +
+                    std::to_string(description.value("spp", int(most))) + " as before)");
+  }
+  return std::move(saved.film);
+}
+
+}  // namespace pt
