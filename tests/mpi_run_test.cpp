@@ -163,7 +163,8 @@ TEST_F(MpiRun, AFailingRankEndsTheJobWithItsMessageAndTheImageSoFar) {
   int status = test::RunCommand("PT_FAULT_INJECT=throw:1:0 " + Launcher(2) +
                                     "-x PT_FAULT_INJECT " +
                                     Pathtracer("-o " + Path("f.png") + " --hdr " + Path("f.exr") +
-                                               kBox + " --spp 32 --chunks 16"),
+                                               " --stats-json " + Path("f.json") + kBox +
+                                               " --spp 32 --chunks 16"),
                                 &out);
   EXPECT_EQ(status, 3) << out;
   EXPECT_NE(out.find("rank 1: injected failure"), std::string::npos) << out;
@@ -173,6 +174,11 @@ TEST_F(MpiRun, AFailingRankEndsTheJobWithItsMessageAndTheImageSoFar) {
   for (float s : samples) mean += s / samples.size();
   EXPECT_GT(mean, 0.0);
   EXPECT_LT(mean, 32.0);  // the leaf rank 1 failed on is missing
+  nlohmann::json stats = nlohmann::json::parse(ReadText(Path("f.json")));
+  EXPECT_EQ(stats.at("stop_reason"), "failed");
+  EXPECT_TRUE(stats.at("interrupted").get<bool>());
+  EXPECT_NE(stats.at("mpi").at("ended_early").get<std::string>().find("rank 1"),
+            std::string::npos);
 }
 
 // mpirun in the background, its output in a file; finds a rank's process to signal.
