@@ -102,6 +102,7 @@ uint64_t Fingerprint(const Scene& scene, const RenderOptions& o, uint32_t chunks
                      " " + std::to_string(o.featureBuffers) + " " +
                      std::to_string(o.rayOffsetEpsilon) + " " +
                      std::to_string(int(o.triangleTest)) + " " +
+                     std::to_string(o.clampLuminance) + " " +
                      std::to_string(scene.TriangleCount()) + " " +
                      std::to_string(scene.PrimitiveCount()) + " " +
                      std::to_string(scene.lights.size()) + " " + std::to_string(geometry);
