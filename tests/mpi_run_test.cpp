@@ -303,6 +303,8 @@ TEST_F(MpiRun, WhatTheSplitCannotDoIsRefusedOnEveryRank) {
   EXPECT_NE(out.find("adaptive sampling is not supported across MPI ranks"), std::string::npos)
       << out;
   EXPECT_EQ(Run(2, o + " --chunks 5", &out), 1) << out;
+  EXPECT_EQ(Run(2, o + " --resume " + Path("state.exr"), &out), 1) << out;
+  EXPECT_NE(out.find("--resume is not supported across MPI ranks"), std::string::npos) << out;
   // Ranks told different things (MPMD): refused, not a silently wrong image.
   EXPECT_EQ(test::RunCommand(Launcher(1) + Pathtracer(o) + " : -np 1 " + Pathtracer(o + " --seed 9"),
                              &out),
@@ -318,6 +320,27 @@ TEST_F(MpiRun, WhatTheSplitCannotDoIsRefusedOnEveryRank) {
     EXPECT_NE(out.find("rank 1: "), std::string::npos) << out;
   }
   EXPECT_FALSE(fs::exists(Path("x.png")));
+}
+
+// --chunks needs no MPI: what a chunked film cannot do is refused in one process too, before
+// anything is written.
+TEST(ChunkedRun, WhatAChunkedFilmCannotDoIsRefusedInOneProcess) {
+  std::string out, dir = test::TempDir(), png = dir + "/x.png";
+  std::string o = "-o " + png + kBox + " --spp 4 --chunks 2";
+  auto refused = [&](const std::string& extra, const std::string& what) {
+    EXPECT_EQ(test::RunCommand(Pathtracer(o + extra), &out), 1) << extra << ": " << out;
+    EXPECT_NE(out.find(what + " is not supported with --chunks"), std::string::npos) << out;
+  };
+  refused(" --adaptive on", "adaptive sampling");
+  refused(" --preview-every 1", "--preview-every");
+  refused(" --hdr " + dir + "/x.exr --checkpoint-every 5", "--checkpoint-every");
+  refused(" --resume " + dir + "/state.exr", "--resume");
+  EXPECT_EQ(test::RunCommand(Pathtracer(o + " --chunks 5"), &out), 1) << out;
+  EXPECT_NE(out.find("--chunks 5 is more than the 4 samples per pixel"), std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_FALSE(fs::exists(dir + "/x.exr"));
+  fs::remove_all(dir);
 }
 
 #if !defined(PT_HAVE_MPI)
