@@ -98,8 +98,9 @@ TEST(FilmMerge, EqualsOneWelfordPassOverBothSampleSets) {
 
 bool SameFilm(const FilmState& a, const FilmState& b) {
   auto same = [](const auto& x, const auto& y) {
+    // Empty arrays (no feature channels) have null data, which memcmp must not be given.
     return x.size() == y.size() &&
-           std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
+           (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
   };
   return same(a.mean, b.mean) && same(a.m2, b.m2) && same(a.lumMean, b.lumMean) &&
          same(a.lumM2, b.lumM2) && same(a.count, b.count) && same(a.albedoSum, b.albedoSum);
