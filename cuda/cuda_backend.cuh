@@ -30,7 +30,9 @@ class CudaBackend {
 
   static constexpr bool kHostMemory = false;  // scene arrays are copied to the device
 
-  CudaBackend();
+  // Makes `device` the calling thread's current device: the thread that makes the backend
+  // must be the one that renders with it.
+  explicit CudaBackend(int device = 0);
   ~CudaBackend();
 
   // Enough paths to fill every SM several times over.

@@ -37,21 +37,22 @@ class DeviceBuffer {
     size_ = n;
     DeviceMemoryTracker::Add(Bytes());
   }
-  void Upload(const std::vector<T>& src) {
-    Resize(src.size());
-    if (size_) CudaCheck(cudaMemcpy(data_, src.data(), Bytes(), cudaMemcpyHostToDevice), "upload");
-  }
+  void Upload(const std::vector<T>& src) { UploadBytes(src.data(), src.size() * sizeof(T)); }
   // Raw bytes into a buffer of ceil(bytes / sizeof(T)) elements (scene arrays of any type).
   void UploadBytes(const void* src, size_t bytes) {
     Resize((bytes + sizeof(T) - 1) / sizeof(T));
-    if (bytes) CudaCheck(cudaMemcpy(data_, src, bytes, cudaMemcpyHostToDevice), "upload");
+    if (!bytes) return;
+    CudaCheck(cudaMemcpy(data_, src, bytes, cudaMemcpyHostToDevice), "upload");
+    FinishLegacyStream();
   }
   void Download(std::vector<T>& dst) const {
     dst.resize(size_);
     if (size_) CudaCheck(cudaMemcpy(dst.data(), data_, Bytes(), cudaMemcpyDeviceToHost), "download");
   }
   void Zero() {
-    if (size_) CudaCheck(cudaMemset(data_, 0, Bytes()), "cudaMemset");
+    if (!size_) return;
+    CudaCheck(cudaMemset(data_, 0, Bytes()), "cudaMemset");
+    FinishLegacyStream();
   }
   T* Data() { return data_; }
   const T* Data() const { return data_; }
@@ -59,6 +60,13 @@ class DeviceBuffer {
   size_t Bytes() const { return size_ * sizeof(T); }
 
  private:
+  // A pageable upload and a memset may still be in flight on the legacy default stream when
+  // they return, and the backend's kernels run on a non-blocking stream that does not wait
+  // for it: finish them here, so that kernels always see the data (two render lanes share a
+  // GPU under MPI, so a device-wide synchronise would stall the other lane).
+  static void FinishLegacyStream() {
+    CudaCheck(cudaStreamSynchronize(cudaStreamLegacy), "cudaStreamSynchronize");
+  }
   void Free() {
     if (data_) {
       cudaFree(data_);

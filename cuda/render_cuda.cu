@@ -5,12 +5,16 @@
 
 namespace pt {
 
-CudaBackend::CudaBackend() {
+CudaBackend::CudaBackend(int device) {
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0)
     throw BackendUnavailable("no CUDA device is available for --backend cuda");
+  if (device < 0 || device >= count)
+    throw BackendUnavailable("CUDA device " + std::to_string(device) + " does not exist (" +
+                             std::to_string(count) + " found)");
+  CudaCheck(cudaSetDevice(device), "cudaSetDevice");
   cudaDeviceProp prop;
-  CudaCheck(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
+  CudaCheck(cudaGetDeviceProperties(&prop, device), "cudaGetDeviceProperties");
   deviceName_ = prop.name;
   CudaCheck(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate");
 }
@@ -57,7 +61,7 @@ void CudaBackend::Synchronize() {
 
 std::unique_ptr<RenderSession> MakeCudaSession(const Scene& scene, const RenderOptions& options,
                                                const RenderCallbacks& callbacks) {
-  return std::make_unique<BackendSession<CudaBackend>>(scene, options, callbacks);
+  return std::make_unique<BackendSession<CudaBackend>>(scene, options, callbacks, options.device);
 }
 
 RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,

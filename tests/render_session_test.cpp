@@ -12,11 +12,7 @@ namespace pt::test {
 namespace {
 
 Scene GlassMirror(int spp) {
-  SceneDesc desc = LoadScene(SourcePath("scenes/cornell_glass_mirror.json"));
-  desc.render.width = 40;
-  desc.render.height = 32;
-  desc.render.spp = spp;
-  return BuildScene(std::move(desc));
+  return SmallScene(SourcePath("scenes/cornell_glass_mirror.json"), 40, 32, spp);
 }
 
 RenderOptions TwoThreads(size_t pathsInFlight = 0) {

@@ -21,6 +21,15 @@ inline Scene SceneFromJson(const std::string& json) {
   return BuildScene(LoadSceneFromString(json, "inline-test-scene.json", "."));
 }
 
+// A scene of the repository at a small size and sample count.
+inline Scene SmallScene(const std::string& path, int width, int height, int spp) {
+  SceneDesc desc = LoadScene(path);
+  desc.render.width = width;
+  desc.render.height = height;
+  desc.render.spp = spp;
+  return BuildScene(std::move(desc));
+}
+
 inline RenderResult RenderOnCpu(const Scene& scene, RenderOptions options = {}) {
   if (options.threads == 0) options.threads = 2;
   return RenderCpu(scene, options);

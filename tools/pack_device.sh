@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Packs what a GPU machine without Debian's libraries needs into .device/ (git-ignored):
-# the binaries (RPATH $ORIGIN/lib), the Debian shared libraries they load, and the shared
-# assets the GPU benchmarks read. The device tool carries .device/ along with the tree.
+# the binaries (RPATH $ORIGIN/lib), the Debian shared libraries they load (with Open MPI's
+# runtime in .device/mpi when the build has MPI), and the shared assets the GPU benchmarks read. The device tool carries .device/ along with the tree.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD="${1:-build}"
 rm -rf .device && mkdir -p .device/bin/lib .device/shared/assets .device/shared/peer-scenes
 cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
-for tool in make_mesh_glb make_sky instance_bench; do
+for tool in make_mesh_glb make_sky instance_bench image_compare; do
   [ -f "$BUILD/$tool" ] && cp "$BUILD/$tool" .device/bin/
 done
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
@@ -15,6 +15,10 @@ for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print 
     libtiny*|libstb*|libminiz*) cp -L "$lib" .device/bin/lib/ ;;
   esac
 done
+# A build with MPI carries Debian's Open MPI runtime (relocatable: .device/mpi/env.sh).
+if ldd "$BUILD/pathtracer" | grep -q libmpi; then
+  bash tools/pack_mpi.sh .device/mpi
+fi
 # pt_tests also looks for the binaries next to the build tree's layout.
 mkdir -p .device/bin/tests && ln -sf ../pt_tests .device/bin/tests/pt_tests
 ln -sf lib .device/bin/tests/lib

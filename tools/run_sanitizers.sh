@@ -7,6 +7,11 @@
 #
 #   tools/run_sanitizers.sh            (build-asan is reused: a second run only rebuilds changes)
 #
+# It is also the configuration without the optional components (-DPT_ENABLE_CUDA=OFF
+# -DPT_ENABLE_MPI=OFF): the suite there checks that everything works without them and that a
+# start by mpirun is refused (tests/mpi_run_test.cpp, NoMpiBuild); the MPI tests themselves run
+# in the main build.
+#
 # Build type "Asan": -O1 -g1 (line tables for readable reports, and about half the compile time
 # of -O2 -g on two cores). From scratch on 2 cores: ~3 minutes to build and ~40 s of tests when
 # the machine is otherwise idle (~8 minutes when other builds share the cores).
@@ -25,7 +30,7 @@ JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 EXCLUDE="${PT_SANITIZE_EXCLUDE:-}"
 
 START=$(date +%s)
-cmake -S "$ROOT" -B "$BUILD" -G Ninja -DPT_SANITIZE=ON -DPT_ENABLE_CUDA=OFF \
+cmake -S "$ROOT" -B "$BUILD" -G Ninja -DPT_SANITIZE=ON -DPT_ENABLE_CUDA=OFF -DPT_ENABLE_MPI=OFF \
   -DCMAKE_BUILD_TYPE=Asan -DCMAKE_CXX_FLAGS_ASAN="-O1 -g1 -fno-omit-frame-pointer" >/dev/null
 cmake --build "$BUILD" -j "$JOBS"
 BUILT=$(date +%s)

@@ -170,6 +170,10 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--checkpoint-every",
        [](CliOptions& o, ValueSource& s) { o.checkpointEverySeconds = ParsePositiveSeconds(s); }},
       {"--resume", [](CliOptions& o, ValueSource& s) { o.resumePath = TakePath(s); }},
+      {"--chunks", [](CliOptions& o, ValueSource& s) { o.chunks = ParseInt(s, 1, 1 << 20); }},
+      {"--rank-timeout",
+       [](CliOptions& o, ValueSource& s) { o.rankTimeoutSeconds = ParsePositiveSeconds(s); }},
+      {"--lanes", [](CliOptions& o, ValueSource& s) { o.lanes = ParseInt(s, 1, 16); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();

@@ -59,6 +59,11 @@ struct CliOptions {
   double checkpointEverySeconds = 0.0;  // 0 = none; else rewrite --hdr as a resumable state
   std::string resumePath;               // --resume, empty = a fresh render
   std::vector<std::string> arguments;   // the command line as given (for the stats)
+  // Sample chunks merged along a fixed tree (src/distributed/); unset: 1 for one process, 32
+  // (at most spp) under mpirun. The image depends on it, never on the number of processes.
+  std::optional<int> chunks;
+  std::optional<double> rankTimeoutSeconds;  // under mpirun: a rank silent this long is lost
+  std::optional<int> lanes;  // under mpirun: render lanes per rank (default 2 on a GPU, 1 on CPU)
 
   bool quiet = false;
   bool help = false;

@@ -68,6 +68,17 @@ Long renders
   --quiet                  no progress bar or progress lines
   --help, --version
 
+Several GPUs or hosts (a build with MPI; see docs/distributed.md)
+  mpirun -np N pathtracer SCENE.json -o OUT [options] splits the samples over N processes,
+  each on its own GPU (local rank mod GPUs) or CPU threads; rank 0 writes every output.
+  --chunks N               cut the samples into N chunks merged along a fixed tree: the
+                           image of `mpirun -np K pathtracer ... --chunks N` for any K
+                           (default 1; under mpirun 32, at most spp)
+  --rank-timeout SECONDS   under mpirun: give up on a rank silent this long (default 60)
+  --lanes N                under mpirun: render lanes (sessions) per rank; 2 on a GPU overlap
+                           one lane's film download with the other's rendering (default 2 on
+                           a GPU, 1 on the CPU)
+
 Not built yet (refused): --sort queues.
 
 SIGINT, SIGTERM and SIGHUP stop the render after the current wave and write the image so far

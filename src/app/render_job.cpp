@@ -7,6 +7,7 @@
 #include "src/app/app_failure.h"
 #include "src/app/progress.h"
 #include "src/app/stop_signals.h"
+#include "src/distributed/chunked_render.h"
 #include "src/integrator/wave_plan.h"
 #include "src/io/image_io.h"
 
@@ -92,6 +93,14 @@ class StopCheck {
   bool timeUp_ = false;
 };
 
+void Resume(RenderSession& session, const FilmState& film, const std::string& path) {
+  try {
+    session.LoadFilm(film);
+  } catch (const std::invalid_argument& e) {
+    throw AppFailure{kExitBadInput, path + ": cannot resume: " + e.what()};
+  }
+}
+
 }  // namespace
 
 const char* StopReasonName(StopReason reason) {
@@ -99,6 +108,7 @@ const char* StopReasonName(StopReason reason) {
     case StopReason::kTimeLimit: return "time_limit";
     case StopReason::kSignal: return "signal";
     case StopReason::kConverged: return "converged";
+    case StopReason::kFailed: return "failed";
     default: return "completed";
   }
 }
@@ -121,21 +131,20 @@ JobOutcome RunRenderJob(const RenderJob& job) {
   callbacks.shouldStop = [&stop] { return stop(); };
   callbacks.onProgress = [&](uint64_t done, uint64_t) {
     progress.Update({done, out.resumedSamples + done, pixels * uint64_t(settings.spp), pixels});
-    writer.AfterWave(*session);
+    if (session) writer.AfterWave(*session);  // none with --chunks (no previews then)
   };
   RenderOptions options = job.options;
   options.timeLimitSeconds = 0.0;     // StopCheck's, which knows it was the time limit
   options.previewEverySeconds = 0.0;  // PeriodicWriter's, which keeps --hdr resumable
-  std::unique_ptr<RenderSession> owned = job.makeSession(*job.scene, options, callbacks);
-  session = owned.get();
-  if (job.resumeFrom) {
-    try {
-      session->LoadFilm(*job.resumeFrom);
-    } catch (const std::invalid_argument& e) {
-      throw AppFailure{kExitBadInput, cli.resumePath + ": cannot resume: " + e.what()};
-    }
+  std::unique_ptr<RenderSession> owned;
+  if (job.chunks > 1) {
+    out.result = RenderChunked(job.makeSession, *job.scene, options, callbacks, job.chunks);
+  } else {
+    owned = job.makeSession(*job.scene, options, callbacks);
+    session = owned.get();
+    if (job.resumeFrom) Resume(*session, *job.resumeFrom, cli.resumePath);
+    out.result = session->Render();
   }
-  out.result = session->Render();
   progress.Finish();
   out.checkpoints = writer.Checkpoints();
   out.signal = StopSignal();
@@ -143,7 +152,7 @@ JobOutcome RunRenderJob(const RenderJob& job) {
   if (out.signal != 0) out.reason = StopReason::kSignal;
   else if (stop.TimeUp()) out.reason = StopReason::kTimeLimit;
   else if (filmSamples < pixels * uint64_t(settings.spp)) out.reason = StopReason::kConverged;
-  out.keepState = IsExrPath(cli.hdrPath) &&
+  out.keepState = session && IsExrPath(cli.hdrPath) &&
                   (cli.checkpointEverySeconds > 0.0 || out.reason == StopReason::kSignal ||
                    out.reason == StopReason::kTimeLimit);
   if (out.keepState) out.film = session->SaveFilm();

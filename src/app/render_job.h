@@ -11,7 +11,8 @@
 
 namespace pt {
 
-enum class StopReason { kCompleted, kTimeLimit, kSignal, kConverged };
+// kFailed: an MPI job ended early by a rank that failed or stopped answering.
+enum class StopReason { kCompleted, kTimeLimit, kSignal, kConverged, kFailed };
 const char* StopReasonName(StopReason reason);  // "completed", "time_limit", ...
 
 struct RenderJob {
@@ -21,6 +22,9 @@ struct RenderJob {
   RenderOptions options;                // as the command line asks
   const FilmState* resumeFrom = nullptr;  // --resume's film, or null
   std::string description;              // the render's, for resumable states (resume.h)
+  // > 1: the samples cut into this many chunks merged along a fixed tree (--chunks: the image
+  // of an MPI job with the same chunks); no resumable state then.
+  uint32_t chunks = 1;
 };
 
 struct JobOutcome {

@@ -11,66 +11,15 @@
 #include "src/app/outputs.h"
 #include "src/app/render_job.h"
 #include "src/app/resume.h"
+#include "src/app/run_steps.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
-#include "src/io/environment_loader.h"
+#include "src/distributed/distributed.h"
 #include "src/io/image_io.h"
-#include "src/io/scene_loader.h"
-#include "src/scene/effects.h"
 #include "src/scene/scene_checks.h"
 
 namespace pt {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void Warn(const std::string& warning) {
-  std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
-}
-
-SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
-  Clock::time_point start = Clock::now();
-  SceneDesc desc;
-  try {
-    LoadOptions load;
-    load.camera = cli.camera;
-    load.environmentGiven = !cli.envPath.empty();
-    desc = LoadScene(cli.scenePath, load);
-    if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
-    if (cli.envStrength) desc.environment.strength = *cli.envStrength;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
-  *loadMs = MsSince(start);
-  try {
-    ApplyCliOverrides(cli, &desc.render);
-  } catch (const CliError& e) {
-    throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
-  }
-  std::string dark = DarkEnvironmentWarning(desc);
-  if (!dark.empty()) desc.warnings.push_back(dark);
-  for (const std::string& warning : desc.warnings) Warn(warning);
-  return desc;
-}
-
-Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
-  Clock::time_point start = Clock::now();
-  try {
-    Scene scene = BuildScene(std::move(desc), bvh);
-    // The builder's own BVH time when it keeps one; else the whole build.
-    *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
-    return scene;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
-}
 
 // The reference at the size of what is rendered: the crop's, or a full image cut to it.
 std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& settings) {
@@ -99,111 +48,6 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
   return cut;
 }
 
-// --bvh auto: the wide layout, measured the faster on both backends (benchmarks/RESULTS.md:
-// GPU 1.07-1.25x per render; CPU 1.2-1.6x per traced ray).
-BvhBuildOptions ChooseBvh(const CliOptions& cli) {
-  BvhBuildOptions options;
-  options.builder = cli.bvhBuilder;
-  options.threads = cli.threads;
-  options.layout = cli.bvhLayout.value_or(BvhLayout::kWide);
-  return options;
-}
-
-// auto: CUDA when it is built and a GPU is present, else the CPU.
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
-  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
-  bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
-  if (requested == BackendKind::kCuda && !cudaReady) {
-    throw AppFailure{kExitRuntimeFailure,
-                     backends.cudaSession ? "--backend cuda: no CUDA device found"
-                                         : "--backend cuda: this build has no CUDA backend"};
-  }
-  bool useCuda = requested != BackendKind::kCpu && cudaReady;
-  return useCuda ? BackendKind::kCuda : BackendKind::kCpu;
-}
-
-RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
-                                const std::vector<float>* reference) {
-  RenderOptions options;
-  options.backend = backend;
-  options.threads = cli.threads;
-  options.compact = cli.compact;
-  options.sort = cli.sort;
-  options.integrator = cli.integrator;
-  if (cli.crop) options.crop = *cli.crop;
-  options.timeLimitSeconds = cli.timeLimitSeconds;
-  options.previewEverySeconds = cli.previewEverySeconds;
-  options.reference = reference;
-  options.maxPathsInFlight = cli.maxPaths;
-  options.adaptive = cli.adaptive;
-  options.lightPaths = cli.lightPaths;
-  options.rayOffsetEpsilon = cli.rayOffsetEpsilon;
-  options.filmDouble = cli.filmDouble;
-  options.specialize = cli.specialize;
-  options.triangleTest = cli.triangleTest;
-  options.envSampling = cli.envSampling;
-  options.clampLuminance = cli.clampLuminance;
-  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
-  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
-  return options;
-}
-
-// One line saying what the scene needs simulated and which stage variant runs it.
-void PrintEffects(const Scene& scene, bool specialize) {
-  uint32_t effects = AnalyzeEffects(scene);
-  std::string names;
-  for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
-  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
-  std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
-               names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
-               specialize ? "" : " (--specialize off)");
-}
-
-std::string StopNote(const JobOutcome& job) {
-  switch (job.reason) {
-    case StopReason::kSignal: return " (stopped by " + SignalName(job.signal) + ")";
-    case StopReason::kTimeLimit: return " (stopped by --time-limit)";
-    case StopReason::kConverged: return " (adaptive: every pixel converged)";
-    default: return "";
-  }
-}
-
-void PrintSummary(const JobOutcome& job) {
-  const RenderStats& s = job.result.stats;
-  RenderRates rates = ComputeRates(s);
-  std::string device = s.device.empty() ? s.backend : s.backend + ", " + s.device;
-  std::fprintf(stderr,
-               "pathtracer: %dx%d, %.1f spp in %.3f s on %s: %.2f Msamples/s, %.2f Mrays/s%s\n",
-               job.result.image.width, job.result.image.height, s.sppMean, s.renderMs / 1e3,
-               device.c_str(), rates.msamplesPerS, rates.mraysPerS, StopNote(job).c_str());
-}
-
-// The last lines: each file written.
-void PrintWritten(const std::vector<std::string>& files, const CliOptions& cli, bool resumable) {
-  for (const std::string& file : files) {
-    bool state = resumable && file == cli.hdrPath;
-    std::fprintf(stderr, "pathtracer: wrote %s%s\n", file.c_str(),
-                 state ? (" (resumable: --resume " + file + " continues it)").c_str() : "");
-  }
-}
-
-RunReport MakeReport(const CliOptions& cli, const Scene& scene, const JobOutcome& job,
-                     BackendKind backend) {
-  RunReport r;
-  r.commandLine = cli.arguments;
-  r.sceneFile = cli.scenePath;
-  r.sppRequested = scene.desc.render.spp;
-  r.stopReason = StopReasonName(job.reason);
-  if (job.reason == StopReason::kSignal) r.signal = SignalName(job.signal);
-  r.clampLuminance = cli.clampLuminance;
-  r.resumedFrom = cli.resumePath;
-  r.resumedSamples = job.resumedSamples;
-  r.checkpoints = job.checkpoints;
-  r.deviceMemory = backend == BackendKind::kCuda;
-  r.peakRssBytes = PeakRssBytes();
-  return r;
-}
-
 // The render on the chosen backend; with the render's description where a resumable state
 // may be written or read.
 RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend,
@@ -213,6 +57,7 @@ RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend
   job.scene = &scene;
   job.makeSession = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
   job.options = MakeRenderOptions(cli, backend, reference);
+  job.chunks = uint32_t(cli.chunks.value_or(1));
   if (IsExrPath(cli.hdrPath) || !cli.resumePath.empty()) {
     bool adaptive = cli.adaptive == Toggle::kAuto ? scene.desc.render.adaptive.enabled
                                                   : cli.adaptive == Toggle::kOn;
@@ -225,7 +70,7 @@ RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend
 // files written.
 std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
                                       const RenderJob& job, const JobOutcome& outcome,
-                                      AppTimes times, Clock::time_point start) {
+                                      AppTimes times, AppClock::time_point start) {
   try {
     ResumableState state{&outcome.film, job.options.filmDouble, job.description};
     std::vector<std::string> written =
@@ -242,7 +87,7 @@ std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
   }
 }
 
-int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point start) {
+int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point start) {
   CheckOutputsWritable(cli);
   AppTimes times;
   Scene scene = Build(LoadAndOverride(cli, &times.loadMs), ChooseBvh(cli),
@@ -253,6 +98,7 @@ int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point st
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
   BackendKind backend = ChooseBackend(cli.backend, backends);
   RenderJob job = MakeJob(cli, scene, backend, backends, cli.referencePath.empty() ? nullptr : &reference);
+  CheckChunkOptions(cli, scene, job.options, false);
   std::optional<FilmState> resumed;
   if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
   job.resumeFrom = resumed ? &*resumed : nullptr;
@@ -264,24 +110,15 @@ int Run(const CliOptions& cli, const AppBackends& backends, Clock::time_point st
   return outcome.reason == StopReason::kSignal ? 128 + outcome.signal : kExitOk;
 }
 
-// Out of GPU memory: what was asked, and what to lower.
-std::string OutOfMemoryMessage(const OutOfDeviceMemory& e, const CliOptions& cli) {
-  auto gib = [](size_t bytes) {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.2f GiB", double(bytes) / double(1ull << 30));
-    return std::string(text);
-  };
-  std::string paths = cli.maxPaths ? " (now " + std::to_string(cli.maxPaths) + ")" : "";
-  return std::string(e.what()) + ": asked for " + gib(e.requestedBytes) + " more with " +
-         gib(e.heldBytes) + " held by the renderer; the GPU had " + gib(e.deviceFreeBytes) +
-         " free of " + gib(e.deviceTotalBytes) + ". Hint: lower --max-paths" + paths +
-         " (the paths in flight, about 120 bytes each), or render a smaller image or --crop";
-}
-
 }  // namespace
 
 int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
-  Clock::time_point start = Clock::now();
+  if (LauncherWorldSize() != 0) return RunMpiApp(argc, argv, backends);
+  return RunProcess(argc, argv, backends);
+}
+
+int RunProcess(int argc, const char* const* argv, const AppBackends& backends) {
+  AppClock::time_point start = AppClock::now();
   CliOptions cli;
   try {
     cli = ParseCli(argc, argv);

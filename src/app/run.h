@@ -24,7 +24,13 @@ struct AppBackends {
   int (*cudaDeviceCount)() = nullptr;
 };
 
-// Runs the whole program; returns the exit status.
+// Runs the whole program; returns the exit status. Started by an MPI launcher, it runs
+// RunMpiApp (src/app/run_mpi.cpp), else RunProcess.
 int RunApp(int argc, const char* const* argv, const AppBackends& backends);
+// The program as one process (also what one rank under mpirun does).
+int RunProcess(int argc, const char* const* argv, const AppBackends& backends);
+// The program as one rank of an MPI job: every rank loads the scene, renders the leaves it is
+// given, and rank 0 writes every output. A build without MPI refuses more than one process.
+int RunMpiApp(int argc, const char* const* argv, const AppBackends& backends);
 
 }  // namespace pt

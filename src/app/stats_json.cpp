@@ -91,7 +91,8 @@ size_t PeakRssBytes() {
 Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& times,
                  const RunReport& run) {
   RenderRates rates = ComputeRates(stats);
-  bool stoppedEarly = run.stopReason == "signal" || run.stopReason == "time_limit";
+  bool stoppedEarly =
+      run.stopReason == "signal" || run.stopReason == "time_limit" || run.stopReason == "failed";
   return Json{
       {"version", PT_VERSION},
       {"command_line", run.commandLine},

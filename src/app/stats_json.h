@@ -23,7 +23,7 @@ struct RunReport {
   std::vector<std::string> commandLine;
   std::string sceneFile;
   int sppRequested = 0;
-  std::string stopReason = "completed";  // completed, time_limit, signal, converged
+  std::string stopReason = "completed";  // completed, time_limit, signal, converged, failed
   std::string signal;                    // "SIGTERM" when stopped by one, else empty
   float clampLuminance = 0.0f;           // > 0: the firefly clamp (a biased estimate)
   std::string resumedFrom;               // the --resume file, or empty

@@ -44,6 +44,7 @@ struct RenderOptions {
   TriangleTest triangleTest = TriangleTest::kWatertight;
   bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
   EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
+  int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
 };
 

@@ -1,0 +1,36 @@
+// One process rendering a ChunkTree's leaves in turn and merging them along the tree: the
+// image an MPI job with the same --chunks gives, whatever its ranks (`pathtracer --chunks N`).
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "src/distributed/chunk_tree.h"
+#include "src/integrator/render_session.h"
+
+namespace pt {
+
+using SessionMaker = std::function<std::unique_ptr<RenderSession>(
+    const Scene&, const RenderOptions&, const RenderCallbacks&)>;
+
+// One leaf rendered on a session into a fresh film: the samples taken (fewer than the leaf
+// holds when the session's stop callback or time limit ended it between waves), the film, and
+// the milliseconds spent rendering and downloading the film.
+struct LeafResult {
+  uint64_t samples = 0;
+  FilmState film;
+  double renderMs = 0.0, saveMs = 0.0;
+};
+LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf);
+
+// Every leaf on one session made with callbacks that see the whole render's progress. The
+// options' adaptive sampling, preview and reference must be off (the app refuses them).
+RenderResult RenderChunked(const SessionMaker& make, const Scene& scene,
+                           const RenderOptions& options, const RenderCallbacks& callbacks,
+                           uint32_t chunks);
+
+// Whether the options and scene ask for adaptive sampling (which the chunked and distributed
+// renders do not do yet).
+bool AdaptiveRequested(const Scene& scene, const RenderOptions& options);
+
+}  // namespace pt

@@ -1,0 +1,95 @@
+#include "src/distributed/render_lane.h"
+
+#include <new>
+
+namespace pt {
+void LaneInbox::Post(LaneEvent event) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  events_.push_back(std::move(event));
+}
+
+std::optional<LaneEvent> LaneInbox::TryPop() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (events_.empty()) return std::nullopt;
+  LaneEvent event = std::move(events_.front());
+  events_.pop_front();
+  return event;
+}
+
+RenderLane::RenderLane(int index, SessionMaker make, const Scene& scene,
+                       RenderOptions options, const ChunkTree& tree, LaneShared& shared)
+    : index_(index), make_(std::move(make)), scene_(scene), options_(options), tree_(tree),
+      shared_(shared) {
+  thread_ = std::thread([this] { Run(); });
+}
+
+RenderLane::~RenderLane() {
+  Grant(std::nullopt);  // a lane still waiting ends
+  if (thread_.joinable()) thread_.join();
+}
+
+void RenderLane::Grant(std::optional<uint32_t> leaf) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    grant_ = leaf;
+  }
+  granted_.notify_one();
+}
+
+std::optional<uint32_t> RenderLane::WaitForGrant() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  granted_.wait(lock, [&] { return grant_.has_value(); });
+  std::optional<uint32_t> leaf = *grant_;
+  grant_.reset();
+  return leaf;
+}
+
+void RenderLane::Run() {
+  auto post = [&](LaneEvent e) {
+    e.lane = index_;
+    shared_.inbox.Post(std::move(e));
+  };
+  auto event = [](LaneEvent::Kind kind, std::string message = "") {
+    LaneEvent e;
+    e.kind = kind;
+    e.message = std::move(message);
+    return e;
+  };
+  try {
+    uint64_t reported = 0;  // samples of the current leaf already counted
+    RenderCallbacks callbacks;
+    callbacks.shouldStop = [this] { return shared_.stop.load(std::memory_order_relaxed); };
+    callbacks.onProgress = [this, &reported](uint64_t done, uint64_t) {
+      shared_.samples += done - reported;
+      reported = done;
+    };
+    std::unique_ptr<RenderSession> session = make_(scene_, options_, callbacks);
+    // Stats() allocates and uploads the scene now: start-up, not render time.
+    LaneEvent ready = event(LaneEvent::kReady);
+    ready.stats = session->Stats();  // names the backend and device
+    post(std::move(ready));
+    while (!shared_.stop.load()) {
+      post(event(LaneEvent::kWantLeaf));
+      std::optional<uint32_t> leaf = WaitForGrant();
+      if (!leaf) break;
+      reported = 0;
+      LeafResult r = RenderLeaf(*session, tree_, *leaf);
+      LaneEvent done = event(LaneEvent::kLeafDone);
+      done.leaf = *leaf;
+      done.samples = r.samples;
+      done.film = std::move(r.film);
+      done.renderMs = r.renderMs;
+      done.saveMs = r.saveMs;
+      post(std::move(done));
+    }
+    LaneEvent finished = event(LaneEvent::kFinished);
+    finished.stats = session->Stats();
+    post(std::move(finished));
+  } catch (const std::bad_alloc&) {
+    post(event(LaneEvent::kFailed, "out of memory"));
+  } catch (const std::exception& e) {
+    post(event(LaneEvent::kFailed, e.what()));
+  }
+}
+
+}  // namespace pt
