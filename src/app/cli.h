@@ -53,6 +53,10 @@ struct CliOptions {
   std::string resumePath;               // --resume, empty = a fresh render
   std::vector<std::string> arguments;   // the command line as given (for the stats)
 
+  // --serve [PORT]: the live preview in a browser instead of an output file (src/app/serve.h).
+  std::optional<int> servePort;
+  std::string bindAddress;  // --bind, empty = 127.0.0.1
+
   bool quiet = false;
   bool help = false;
   bool version = false;

@@ -5,6 +5,7 @@ namespace pt {
 
 std::string CliUsage() {
   return R"(usage: pathtracer SCENE.json -o OUT [options]
+       pathtracer SCENE.json --serve [PORT] [options]
 
 Renders SCENE.json (see scene-format.md) to OUT (.png sRGB; .exr or .pfm linear).
 Options take `--flag V` or `--flag=V`; they override the scene's values.
@@ -50,6 +51,12 @@ Long renders
                            its --hdr EXR (same scene, size, crop, seed and settings)
   --progress-every SECONDS progress line interval when stderr is not a terminal (default 10)
   --quiet                  no progress bar or progress lines
+
+Live preview
+  --serve [PORT]           render progressively for a browser at http://127.0.0.1:PORT/
+                           instead of writing -o (default port 8765; see docs/serve.md)
+  --bind ADDR              with --serve: listen on ADDR instead of 127.0.0.1
+
   --help, --version
 
 Not built yet (refused): --sort queues.

@@ -11,6 +11,8 @@
 #include "src/app/outputs.h"
 #include "src/app/render_job.h"
 #include "src/app/resume.h"
+#include "src/app/run_steps.h"
+#include "src/app/serve.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
 #include "src/io/image_io.h"
@@ -24,44 +26,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void Warn(const std::string& warning) {
-  std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
-}
-
-SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
-  Clock::time_point start = Clock::now();
-  SceneDesc desc;
-  try {
-    desc = LoadScene(cli.scenePath);
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
-  *loadMs = MsSince(start);
-  try {
-    ApplyCliOverrides(cli, &desc.render);
-  } catch (const CliError& e) {
-    throw AppFailure{kExitBadCommandLine, std::string(e.what()) + " (see --help)"};
-  }
-  for (const std::string& warning : desc.warnings) Warn(warning);
-  return desc;
-}
-
-Scene Build(SceneDesc desc, double* bvhBuildMs) {
-  Clock::time_point start = Clock::now();
-  try {
-    Scene scene = BuildScene(std::move(desc));
-    // The builder's own BVH time when it keeps one; else the whole build.
-    *bvhBuildMs = scene.bvhBuildMs > 0.0 ? scene.bvhBuildMs : MsSince(start);
-    return scene;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw AppFailure{kExitBadInput, e.what()};
-  }
 }
 
 // The reference at the size of what is rendered: the crop's, or a full image cut to it.
@@ -89,44 +53,6 @@ std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& se
     cut.insert(cut.end(), row, row + size_t(cropW) * 3);
   }
   return cut;
-}
-
-// auto: CUDA when it is built and a GPU is present, else the CPU.
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
-  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
-  bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
-  if (requested == BackendKind::kCuda && !cudaReady) {
-    throw AppFailure{kExitRuntimeFailure,
-                     backends.cudaSession ? "--backend cuda: no CUDA device found"
-                                         : "--backend cuda: this build has no CUDA backend"};
-  }
-  bool useCuda = requested != BackendKind::kCpu && cudaReady;
-  return useCuda ? BackendKind::kCuda : BackendKind::kCpu;
-}
-
-RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
-                                const std::vector<float>* reference) {
-  RenderOptions options;
-  options.backend = backend;
-  options.threads = cli.threads;
-  options.compact = cli.compact;
-  options.sort = cli.sort;
-  options.integrator = cli.integrator;
-  if (cli.crop) options.crop = *cli.crop;
-  options.timeLimitSeconds = cli.timeLimitSeconds;
-  options.previewEverySeconds = cli.previewEverySeconds;
-  options.reference = reference;
-  options.maxPathsInFlight = cli.maxPaths;
-  options.adaptive = cli.adaptive;
-  options.lightPaths = cli.lightPaths;
-  options.rayOffsetEpsilon = cli.rayOffsetEpsilon;
-  options.filmDouble = cli.filmDouble;
-  options.specialize = cli.specialize;
-  options.triangleTest = cli.triangleTest;
-  options.clampLuminance = cli.clampLuminance;
-  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
-  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
-  return options;
 }
 
 // One line saying what the scene needs simulated and which stage variant runs it.
@@ -278,7 +204,7 @@ int RunApp(int argc, const char* const* argv, const AppBackends& backends) {
     return kExitOk;
   }
   try {
-    return Run(cli, backends, start);
+    return cli.servePort ? Serve(cli, backends) : Run(cli, backends, start);
   } catch (const AppFailure& failure) {
     std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
     return failure.status;

@@ -32,6 +32,7 @@ class BackendSession final : public RenderSession {
   void SetCamera(const Camera& camera) override { integrator_.SetCamera(camera); }
   void SetOptions(const RenderOptions& options) override { integrator_.ApplyOptions(options); }
   void SceneChanged() override { integrator_.SceneChanged(); }
+  void MaterialsChanged() override { integrator_.MaterialsChanged(); }
 
  private:
   Backend backend_;

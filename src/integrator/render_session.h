@@ -40,6 +40,10 @@ class RenderSession {
   virtual void SetCamera(const Camera& camera) = 0;
   virtual void SetOptions(const RenderOptions& options) = 0;
   virtual void SceneChanged() = 0;
+  // Only Scene::desc.materials changed, and BuildLightTable ran on the Scene again: re-reads
+  // the materials, the primitives' light indices and the light table, not the geometry (far
+  // cheaper than SceneChanged on the GPU for a scene of large meshes).
+  virtual void MaterialsChanged() = 0;
 };
 
 // Sessions on each backend. The Scene must outlive the session. MakeCudaSession throws

@@ -2,6 +2,7 @@
 // them: one expansion of PT_SCENE_ARRAYS, so a new array needs no line here.
 #pragma once
 
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -14,10 +15,19 @@ struct alignas(16) SceneWord {
   uint32_t w[4];
 };
 
+// How many arrays PT_SCENE_ARRAYS lists.
+inline constexpr size_t kSceneArrayCount = 0
+#define PT_SCENE_ARRAY_COUNT(Type, name, host) +1
+    PT_SCENE_ARRAYS(PT_SCENE_ARRAY_COUNT)
+#undef PT_SCENE_ARRAY_COUNT
+    ;
+
 template <typename Backend>
 struct SceneBuffers {
   using Words = typename Backend::template Buffer<SceneWord>;
-  std::vector<std::unique_ptr<Words>> arrays;  // empty when the backend reads host memory
+  // One slot per array of PT_SCENE_ARRAYS, in its order, so that a few arrays can be replaced
+  // alone; empty when the backend reads host memory.
+  std::vector<std::unique_ptr<Words>> arrays;
   size_t hostBytes = 0;                        // the arrays' size wherever they live
   SceneView view;
 
@@ -34,27 +44,56 @@ inline size_t SceneArrayBytes(const Scene& s) {
 }
 
 template <typename Backend, typename T>
-const T* UploadSceneArray(SceneBuffers<Backend>& b, const std::vector<T>& host) {
+const T* UploadSceneArray(SceneBuffers<Backend>& b, size_t slot, const std::vector<T>& host) {
   static_assert(alignof(T) <= alignof(SceneWord), "scene struct over-aligned");
-  if (host.empty()) return nullptr;
-  b.arrays.push_back(std::make_unique<typename SceneBuffers<Backend>::Words>());
-  b.arrays.back()->UploadBytes(host.data(), host.size() * sizeof(T));
-  return reinterpret_cast<const T*>(b.arrays.back()->Data());
+  if (host.empty()) {
+    b.arrays[slot].reset();
+    return nullptr;
+  }
+  if (!b.arrays[slot]) b.arrays[slot] = std::make_unique<typename SceneBuffers<Backend>::Words>();
+  b.arrays[slot]->UploadBytes(host.data(), host.size() * sizeof(T));
+  return reinterpret_cast<const T*>(b.arrays[slot]->Data());
 }
 
-// A backend whose stages run on the host (Backend::kHostMemory) reads the Scene's own
-// vectors in place; any other gets a copy of each array in its memory.
+// Uploads the arrays whose names (as PT_SCENE_ARRAYS spells them) `which` accepts and takes
+// the view's counts and constants from the scene again; the other arrays stay where they are,
+// and so do the view's camera and triangle test (session state). A backend whose stages run
+// on the host (Backend::kHostMemory) reads the Scene's own vectors in place.
+template <typename Backend, typename Which>
+void UploadSceneArrays(const Scene& scene, SceneBuffers<Backend>& b, Which which) {
+  SceneView fresh = HostSceneView(scene);
+  SceneView old = b.view;
+  b.view = fresh;
+  b.view.camera = old.camera;
+  b.view.triangleTest = old.triangleTest;
+  b.hostBytes = SceneArrayBytes(scene);
+  b.arrays.resize(kSceneArrayCount);
+  const Scene& s = scene;
+  size_t slot = 0;
+  (void)s;
+#define PT_SCENE_ARRAY_UPLOAD(Type, name, host)                                          \
+  if (!which(#name)) b.view.name = old.name;                                             \
+  else if constexpr (!Backend::kHostMemory) b.view.name = UploadSceneArray(b, slot, host); \
+  ++slot;
+  PT_SCENE_ARRAYS(PT_SCENE_ARRAY_UPLOAD)
+#undef PT_SCENE_ARRAY_UPLOAD
+}
+
+// Every array, and the whole view (the scene's own camera).
 template <typename Backend>
 void UploadScene(const Scene& scene, SceneBuffers<Backend>& b) {
-  b.view = HostSceneView(scene);
-  b.hostBytes = SceneArrayBytes(scene);
-  b.arrays.clear();
-  if constexpr (!Backend::kHostMemory) {
-    const Scene& s = scene;
-#define PT_SCENE_ARRAY_UPLOAD(Type, name, host) b.view.name = UploadSceneArray(b, host);
-    PT_SCENE_ARRAYS(PT_SCENE_ARRAY_UPLOAD)
-#undef PT_SCENE_ARRAY_UPLOAD
+  UploadSceneArrays(scene, b, [](const char*) { return true; });
+  b.view.camera = scene.camera;
+  b.view.triangleTest = 0;
+}
+
+// The arrays a material edit touches: the materials, the primitives' light indices and the
+// light table (an emitter's radiance sets its power; a material may start or stop emitting).
+inline bool IsAppearanceArray(const char* name) {
+  for (const char* n : {"materials", "prims", "lights", "lightPmf", "lightCdf"}) {
+    if (std::strcmp(n, name) == 0) return true;
   }
+  return false;
 }
 
 }  // namespace pt

@@ -264,6 +264,7 @@ class WavefrontIntegrator {
   }
   void ApplyOptions(const RenderOptions& options);
   void SceneChanged();
+  void MaterialsChanged();
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -47,13 +47,21 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
 }
 
-// The Scene was edited: its arrays again, and what the options derive from it.
+// The Scene was edited: its arrays again (a camera set on the session stays), and what the
+// options derive from it.
 template <typename Backend>
 void WavefrontIntegrator<Backend>::SceneChanged() {
   EnsureAllocated();
-  Camera camera = sceneBuffers_.view.camera;  // a camera set on the session stays
-  UploadScene(scene_, sceneBuffers_);
-  sceneBuffers_.view.camera = camera;
+  UploadSceneArrays(scene_, sceneBuffers_, [](const char*) { return true; });
+  ApplyOptions(options_);
+}
+
+// Only materials were edited (and BuildLightTable ran): the arrays they reach, not the
+// geometry; the stage variant follows the materials' effects.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::MaterialsChanged() {
+  EnsureAllocated();
+  UploadSceneArrays(scene_, sceneBuffers_, IsAppearanceArray);
   ApplyOptions(options_);
 }
 
