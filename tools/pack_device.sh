@@ -10,7 +10,7 @@ cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
 [ -f "$BUILD/make_mesh_glb" ] && cp "$BUILD/make_mesh_glb" .device/bin/
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
   case "$(basename "$lib")" in
-    libtiny*|libstb*|libminiz*) cp -L "$lib" .device/bin/lib/ ;;
+    libtiny*|libstb*|libminiz*|libcpp-httplib*|libbrotli*) cp -L "$lib" .device/bin/lib/ ;;
   esac
 done
 # pt_tests also looks for the binaries next to the build tree's layout.
