@@ -187,6 +187,17 @@ async function loadScene() {
   $('f-max-depth').value = scene.render.max_depth;
   $('f-spp').value = scene.render.spp;
   showFov();
+  fitView();
+}
+
+// The image as large as the space left of the controls allows, at its aspect ratio (a small
+// render is scaled up: the mouse maps through clientWidth/clientHeight to its pixels).
+function fitView() {
+  const main = document.querySelector('main');
+  const availableWidth = main.clientWidth - 24, availableHeight = window.innerHeight - 60;
+  const s = Math.min(availableWidth / scene.width, availableHeight / scene.height);
+  $('view').style.width = `${Math.floor(scene.width * s)}px`;
+  $('view').style.height = `${Math.floor(scene.height * s)}px`;
 }
 
 function showFov() {
@@ -411,6 +422,7 @@ async function start() {
   }
   bindFlags();
   bindMouse();
+  window.addEventListener('resize', fitView);
   frameLoop();
 }
 start();
