@@ -14,6 +14,7 @@
 #include "src/io/scene_loader.h"
 #include "src/server/http_server.h"
 #include "src/server/live_render.h"
+#include "tests/cli_test_util.h"
 #include "tests/test_util.h"
 
 namespace pt::test {
@@ -279,13 +280,47 @@ TEST(ServeHost, OnlyNamesNoRebindingCanFake) {
   EXPECT_FALSE(OriginAllowed("http://evil.example", "127.0.0.1:8765"));
 }
 
+TEST(ServeCli, StartsStopsAndRefusesWhatItCannotServe) {
+  std::string dir = TempDir();
+  std::string scene = WriteText(dir + "/tiny.json", kTinyScene);
+  std::string log = dir + "/log.txt";
+  // SIGTERM ends the preview cleanly (exit 0) once it serves.
+  std::string out;
+  int status = RunCommand("(" + BinaryPath("pathtracer") + " " + scene + " --serve 0 --threads 1 2>" +
+                              log + " & pid=$!; i=0; while ! grep -q serving " + log +
+                              " && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done;" +
+                              " kill -TERM $pid; wait $pid)",
+                          &out);
+  std::string text = ReadText(log);
+  EXPECT_EQ(status, 0) << text;
+  EXPECT_NE(text.find("on http://127.0.0.1:"), std::string::npos) << text;
+  EXPECT_NE(text.find("the preview stopped"), std::string::npos) << text;
+  // An address of no interface here (TEST-NET-3): exit 3 with the reason.
+  EXPECT_EQ(RunPathtracer(scene + " --serve 0 --bind 203.0.113.7", &out), 3) << out;
+  EXPECT_NE(out.find("cannot listen on 203.0.113.7"), std::string::npos) << out;
+  // A bad scene: exit 2, as a render would.
+  std::string bad = WriteText(dir + "/bad.json", "{\"render\": {\"width\": -1}}");
+  EXPECT_EQ(RunPathtracer(bad + " --serve 0", &out), 2) << out;
+  std::remove(scene.c_str());
+  std::remove(bad.c_str());
+  std::remove(log.c_str());
+}
+
 }  // namespace
 }  // namespace pt::test
 
 #else
 
-TEST(ServeApi, SkippedWithoutTheServer) {
-  GTEST_SKIP() << "built without cpp-httplib: no preview server to test";
+#include "tests/cli_test_util.h"
+
+// Without cpp-httplib the rest builds, and --serve is a clear error (exit 3).
+TEST(ServeCli, RefusedWithoutTheServer) {
+  std::string dir = pt::test::TempDir();
+  std::string scene = pt::test::WriteText(dir + "/tiny.json", pt::test::kTinyScene);
+  std::string out;
+  EXPECT_EQ(pt::test::RunPathtracer(scene + " --serve", &out), 3) << out;
+  EXPECT_NE(out.find("this build has no preview server"), std::string::npos) << out;
+  std::remove(scene.c_str());
 }
 
 #endif
