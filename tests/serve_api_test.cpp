@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstring>
 #include <thread>
 
 #include "src/io/image_io.h"
@@ -50,6 +51,7 @@ class Served {
   }
 
   static constexpr int kSide = 48;
+  LiveRender& Live() { return *live_; }
   httplib::Client& Client() { return *client_; }
   int Port() const { return server_->Port(); }
 
@@ -164,6 +166,29 @@ TEST(ServeApi, PickMoveAndSaveTheEditedScene) {
   s.PostJson("/api/objects/99/move", R"({"translate": [1, 0, 0]})", 404);
   s.PostJson("/api/objects/6/move", R"({"translate": [1, 0]})", 400);
   s.PostJson("/api/objects/x/move", R"({"translate": [1, 0, 0]})", 404);
+}
+
+// The saved scene is what the preview rendered: on the CPU, the same film bit for bit.
+TEST(ServeApi, TheSavedSceneRendersWhatThePreviewShows) {
+  Served s(3);
+  s.WaitFrame(0, 1);
+  s.PostJson("/api/camera", R"({"fov_y": 33, "position": [0.2, 1.1, 3.7]})");
+  s.PostJson("/api/materials/0", R"({"albedo": [0.5, 0.6, 0.7]})");
+  s.PostJson("/api/objects/7/move", R"({"translate": [-0.1, 0.05, 0.1]})");
+  Json g = s.PostJson("/api/options", R"({"max_depth": 4, "integrator": "nee"})");
+  s.WaitFrame(g["generation"], 3);
+  std::shared_ptr<const FilmImage> shown = s.Live().LatestImage();
+  ASSERT_TRUE(shown);
+  std::string path = TempDir() + "/edited.json";
+  WriteFileAtomic(path, s.Client().Get("/api/scene.json")->body);
+  Scene edited = BuildScene(LoadScene(path));
+  std::remove(path.c_str());
+  RenderOptions options;
+  options.threads = 2;
+  options.integrator = IntegratorMode::kNee;
+  RenderResult again = RenderCpu(edited, options);
+  ASSERT_EQ(again.image.rgb.size(), shown->rgb.size());
+  EXPECT_EQ(std::memcmp(again.image.rgb.data(), shown->rgb.data(), shown->rgb.size() * sizeof(float)), 0);
 }
 
 TEST(ServeApi, MaterialEditsAreCheckedByTheLoader) {
