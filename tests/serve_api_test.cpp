@@ -87,14 +87,14 @@ TEST(ServeApi, PickMoveAndSaveTheEditedScene) {
   s.PostJson("/api/objects/x/move", R"({"translate": [1, 0, 0]})", 404);
 }
 
-// The saved scene is what the preview rendered: on the CPU, the same film bit for bit.
-TEST(ServeApi, TheSavedSceneRendersWhatThePreviewShows) {
+// The saved scene is what the preview rendered: on the CPU, the same film bit for bit, after
+// each kind of edit (one with a scene rebuild, one of the render settings alone).
+void ExpectSavedSceneRendersTheShownFilm(const std::vector<std::pair<std::string, std::string>>& edits,
+                                         IntegratorMode integrator) {
   Served s(3);
   s.WaitFrame(0, 1);
-  s.PostJson("/api/camera", R"({"fov_y": 33, "position": [0.2, 1.1, 3.7]})");
-  s.PostJson("/api/materials/0", R"({"albedo": [0.5, 0.6, 0.7]})");
-  s.PostJson("/api/objects/7/move", R"({"translate": [-0.1, 0.05, 0.1]})");
-  Json g = s.PostJson("/api/options", R"({"max_depth": 4, "integrator": "nee"})");
+  Json g;
+  for (const auto& [path, body] : edits) g = s.PostJson(path, body);
   s.WaitFrame(g["generation"], 3);
   std::shared_ptr<const FilmImage> shown = s.Live().LatestImage();
   ASSERT_TRUE(shown);
@@ -104,10 +104,23 @@ TEST(ServeApi, TheSavedSceneRendersWhatThePreviewShows) {
   std::remove(path.c_str());
   RenderOptions options;
   options.threads = 2;
-  options.integrator = IntegratorMode::kNee;
+  options.integrator = integrator;
   RenderResult again = RenderCpu(edited, options);
   ASSERT_EQ(again.image.rgb.size(), shown->rgb.size());
   EXPECT_EQ(std::memcmp(again.image.rgb.data(), shown->rgb.data(), shown->rgb.size() * sizeof(float)), 0);
+}
+
+TEST(ServeApi, TheSavedSceneRendersWhatThePreviewShows) {
+  ExpectSavedSceneRendersTheShownFilm(
+      {{"/api/camera", R"({"fov_y": 33, "position": [0.2, 1.1, 3.7]})"},
+       {"/api/materials/0", R"({"albedo": [0.5, 0.6, 0.7]})"},
+       {"/api/objects/7/move", R"({"translate": [-0.1, 0.05, 0.1]})"},
+       {"/api/options", R"({"max_depth": 4, "integrator": "nee"})"}},
+      IntegratorMode::kNee);
+  ExpectSavedSceneRendersTheShownFilm({{"/api/options", R"({"max_depth": 1})"}},
+                                      IntegratorMode::kMis);
+  ExpectSavedSceneRendersTheShownFilm({{"/api/materials/3", R"({"radiance": [3, 9, 3]})"}},
+                                      IntegratorMode::kMis);
 }
 
 TEST(ServeApi, MaterialEditsAreCheckedByTheLoader) {
