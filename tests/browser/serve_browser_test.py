@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The live preview in a real headless Chromium, driven over the DevTools protocol (a pipe, no
 extra packages): the page converges past a few spp, a drag orbits the camera (the image changes
-and the accumulation starts over), a click selects the tall box and a drag moves it, and the
-compaction flag is switched off. Screenshots of each step go to --out.
+and the accumulation starts over), a click selects the tall box and a drag moves it, its material
+is edited through the page's form, and the compaction flag is switched off. Screenshots of each step go to --out.
 
 Exit 0 passed, 1 failed, 77 skipped (no chromium, or a pathtracer built without the server).
 usage: serve_browser_test.py --pathtracer BIN --scene SCENE.json --out DIR
@@ -175,6 +175,14 @@ def run(args, dt, port, out):
           f"{moved['objects'][6]['transform']['translate'][0]:.3f}")
     wait_for(lambda: state()["spp"] >= 2, "the moved box's frame")
     dt.screenshot(os.path.join(out, "3_moved.png"))
+
+    # The selected box's material (white, index 0) made blue through the page's form.
+    dt.eval("(() => { const f = document.getElementById('material');"
+            " [0.1, 0.2, 0.9].forEach((v, i) => { const e = f.elements['albedo.' + i]; e.value = v;"
+            " e.dispatchEvent(new Event('change')); }); })()")
+    albedo = lambda: dt.eval(FETCH_JSON.format("/api/scene.json"))["materials"]["white"]["albedo"]
+    wait_for(lambda: albedo() == [0.1, 0.2, 0.9], "the material edit")
+    print(f"material edited through the form: white albedo {albedo()}")
 
     # Compaction off, as a user picks it in the Flags section.
     dt.eval("(() => { const s = document.getElementById('f-compact'); s.value = 'off';"
