@@ -79,3 +79,18 @@ if [[ " $STEPS " == *" gltf "* ]]; then
   python3 benchmarks/gltf_materials_bench.py --binary "$BIN/pathtracer" --backend cuda \
     --repeats "${REPEATS:-3}" --out "$OUT/gltf_materials"
 fi
+
+# Not in the default STEPS: STEPS=serve runs it alone (about half a minute).
+if [[ " $STEPS " == *" serve "* ]]; then
+  step "live preview (--serve): GPU API test, edit-to-frame latency and frame rate at 1080p"
+  "$BIN/pt_tests" --gtest_filter='ServeGpu.*:ServeApi.*' --gtest_brief=1 2>&1 | tail -5
+  for size in "1920 1080" "512 512"; do
+    set -- $size
+    python3 benchmarks/serve_latency.py --pathtracer "$BIN/pathtracer" --backend cuda \
+      --scene scenes/cornell_box.json --width "$1" --height "$2" --edits 30 --seconds 5 \
+      --json "$OUT/serve_cornell_$1x$2.json"
+  done
+  python3 benchmarks/serve_latency.py --pathtracer "$BIN/pathtracer" --backend cuda \
+    --scene benchmarks/scenes/bunny_cornell.json --width 1920 --height 1080 --edits 30 \
+    --seconds 5 --json "$OUT/serve_bunny_1920x1080.json"
+fi

@@ -260,6 +260,30 @@ TEST(CliParse, LongRenderOptions) {
   EXPECT_EQ(d.clampLuminance, 0.0f);
 }
 
+TEST(CliParse, ServeOptions) {
+  CliOptions d = Parse({"s.json", "--serve"});
+  ASSERT_TRUE(d.servePort.has_value());
+  EXPECT_EQ(*d.servePort, 8765);  // the documented default (docs/serve.md)
+  EXPECT_TRUE(d.bindAddress.empty());
+  CliOptions p = Parse({"s.json", "--serve", "9000", "--bind", "0.0.0.0", "--backend", "cpu"});
+  EXPECT_EQ(*p.servePort, 9000);
+  EXPECT_EQ(p.bindAddress, "0.0.0.0");
+  EXPECT_EQ(*Parse({"--serve=0", "s.json"}).servePort, 0);
+  // A scene path after --serve is not taken as the port.
+  CliOptions s = Parse({"--serve", "s.json"});
+  EXPECT_EQ(s.scenePath, "s.json");
+  EXPECT_EQ(*s.servePort, 8765);
+  EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "70000"}), "--serve"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--bind", "0.0.0.0"}),
+                       "--bind needs --serve"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "-o", "o.png"}),
+                       "-o does not go with --serve"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "--crop", "0,0,4,4"}),
+                       "--crop does not go with --serve"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "--resume", "a.exr"}),
+                       "--resume does not go with --serve"));
+}
+
 TEST(CliParse, DoubleDashEndsOptions) {
   CliOptions o = Parse({"-o", "o.png", "--", "-scene.json"});
   EXPECT_EQ(o.scenePath, "-scene.json");

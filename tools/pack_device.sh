@@ -12,7 +12,7 @@ for tool in make_mesh_glb make_sky instance_bench image_compare; do
 done
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
   case "$(basename "$lib")" in
-    libtiny*|libstb*|libminiz*) cp -L "$lib" .device/bin/lib/ ;;
+    libtiny*|libstb*|libminiz*|libcpp-httplib*|libbrotli*) cp -L "$lib" .device/bin/lib/ ;;
   esac
 done
 # A build with MPI carries Debian's Open MPI runtime (relocatable: .device/mpi/env.sh).

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "src/io/image_io.h"
+#include "src/server/api.h"
 
 namespace pt {
 namespace {
@@ -138,6 +139,7 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          o.seed = uint32_t(ParseInteger(s.Option(), s.Take(), 0, UINT32_MAX));
        }},
       {"--threads", [](CliOptions& o, ValueSource& s) { o.threads = ParseInt(s, 0, 1 << 16); }},
+      {"--bind", [](CliOptions& o, ValueSource& s) { o.bindAddress = s.Take(); }},
       {"--time-limit",
        [](CliOptions& o, ValueSource& s) { o.timeLimitSeconds = ParsePositiveSeconds(s); }},
       {"--preview-every",
@@ -304,6 +306,15 @@ void ParseOption(const std::string& token, const std::vector<std::string>& args,
     if (inlineValue) throw CliError(name + " takes no value");
     return;
   }
+  if (name == "--serve") {  // the port is optional: taken only when a number follows
+    bool numberFollows = *next < args.size() && !args[*next].empty() &&
+                         args[*next].find_first_not_of("0123456789") == std::string::npos;
+    std::string port = inlineValue ? *inlineValue
+                       : numberFollows ? args[(*next)++]
+                                       : std::to_string(kDefaultServePort);
+    options->servePort = int(ParseInteger(name, port, 0, 65535));
+    return;
+  }
   const Handler* handler = FindHandler(name);
   if (!handler) throw CliError("unknown option " + name);
   ValueSource source(name, inlineValue, args, next);
@@ -318,8 +329,27 @@ void CheckExtension(const std::string& option, const std::string& path, bool all
   }
 }
 
+// The live preview writes no files (the page saves them) and renders every pixel alike.
+void CheckServe(const CliOptions& o) {
+  std::pair<bool, const char*> refused[] = {
+      {!o.outputPath.empty(), "-o"},          {!o.hdrPath.empty(), "--hdr"},
+      {!o.sppMapPath.empty(), "--spp-map"},   {!o.statsJsonPath.empty(), "--stats-json"},
+      {!o.referencePath.empty(), "--reference"}, {o.crop.has_value(), "--crop"},
+      {!o.resumePath.empty(), "--resume"},    {o.checkpointEverySeconds > 0.0, "--checkpoint-every"},
+      {o.timeLimitSeconds > 0.0, "--time-limit"}, {o.previewEverySeconds > 0.0, "--preview-every"},
+      {o.adaptive == Toggle::kOn, "--adaptive on"}};
+  for (const auto& [given, name] : refused) {
+    if (given) {
+      throw CliError(std::string(name) + " does not go with --serve (the page shows the render "
+                     "and saves the image and scene)");
+    }
+  }
+}
+
 void CheckRequired(const CliOptions& options) {
   if (options.scenePath.empty()) throw CliError("missing the scene file (SCENE.json)");
+  if (!options.bindAddress.empty() && !options.servePort) throw CliError("--bind needs --serve");
+  if (options.servePort) return CheckServe(options);
   if (options.outputPath.empty()) throw CliError("missing -o FILE");
   CheckExtension("-o", options.outputPath, true);
   if (!options.hdrPath.empty()) CheckExtension("--hdr", options.hdrPath, false);

@@ -65,6 +65,10 @@ struct CliOptions {
   std::optional<double> rankTimeoutSeconds;  // under mpirun: a rank silent this long is lost
   std::optional<int> lanes;  // under mpirun: render lanes per rank (default 2 on a GPU, 1 on CPU)
 
+  // --serve [PORT]: the live preview in a browser instead of an output file (src/app/serve.h).
+  std::optional<int> servePort;
+  std::string bindAddress;  // --bind, empty = 127.0.0.1
+
   bool quiet = false;
   bool help = false;
   bool version = false;

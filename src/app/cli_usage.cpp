@@ -5,6 +5,7 @@ namespace pt {
 
 std::string CliUsage() {
   return R"(usage: pathtracer SCENE -o OUT [options]
+       pathtracer SCENE --serve [PORT] [options]
 
 Renders SCENE to OUT (.png sRGB; .exr or .pfm linear). SCENE is a JSON scene, or a .gltf,
 .glb or .obj file rendered as a whole scene (docs/scene-format.md; options: docs/cli.md).
@@ -66,6 +67,12 @@ Long renders
                            its --hdr EXR (same scene, size, crop, seed and settings)
   --progress-every SECONDS progress line interval when stderr is not a terminal (default 10)
   --quiet                  no progress bar or progress lines
+
+Live preview
+  --serve [PORT]           render progressively for a browser at http://127.0.0.1:PORT/
+                           instead of writing -o (default port 8765; see docs/serve.md)
+  --bind ADDR              with --serve: listen on ADDR instead of 127.0.0.1
+
   --help, --version
 
 Several GPUs or hosts (a build with MPI; see docs/distributed.md)

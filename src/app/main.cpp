@@ -1,6 +1,10 @@
 // pathtracer: everything but the choice of linked backends lives in src/app/run.cpp.
 #include "src/app/run.h"
 
+#if defined(PT_HAVE_SERVER)
+#include "src/server/http_server.h"
+#endif
+
 int main(int argc, char** argv) {
   pt::AppBackends backends;
   backends.cpuSession = &pt::MakeCpuSession;
@@ -8,5 +12,8 @@ int main(int argc, char** argv) {
   backends.cudaSession = &pt::MakeCudaSession;
 #endif
   backends.cudaDeviceCount = &pt::CudaDeviceCount;
+#if defined(PT_HAVE_SERVER)
+  backends.startServer = &pt::StartHttpServer;
+#endif
   return pt::RunApp(argc, argv, backends);
 }

@@ -12,6 +12,7 @@
 #include "src/app/render_job.h"
 #include "src/app/resume.h"
 #include "src/app/run_steps.h"
+#include "src/app/serve.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
 #include "src/distributed/distributed.h"
@@ -135,7 +136,7 @@ int RunProcess(int argc, const char* const* argv, const AppBackends& backends) {
     return kExitOk;
   }
   try {
-    return Run(cli, backends, start);
+    return cli.servePort ? Serve(cli, backends) : Run(cli, backends, start);
   } catch (const AppFailure& failure) {
     std::fprintf(stderr, "pathtracer: %s\n", failure.message.c_str());
     return failure.status;

@@ -2,9 +2,15 @@
 // ../shared/cli.md defines them.
 #pragma once
 
+#include <memory>
+
 #include "src/integrator/render_session.h"
 
 namespace pt {
+
+class HttpServer;
+class LiveRender;
+struct HttpServerConfig;
 
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadCommandLine = 1;
@@ -22,6 +28,8 @@ struct AppBackends {
   SessionFactory cpuSession = nullptr;
   SessionFactory cudaSession = nullptr;
   int (*cudaDeviceCount)() = nullptr;
+  // The preview server (src/server/http_server.h); null when cpp-httplib was not found.
+  std::unique_ptr<HttpServer> (*startServer)(LiveRender&, const HttpServerConfig&) = nullptr;
 };
 
 // Runs the whole program; returns the exit status. Started by an MPI launcher, it runs

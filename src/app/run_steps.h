@@ -1,5 +1,5 @@
-// The steps of a run that the one-process flow (run.cpp) and the MPI flow (run_mpi.cpp)
-// share: loading, backend and options, the messages around the render, the stats' report.
+// The steps of a run that the one-process flow (run.cpp), the MPI flow (run_mpi.cpp) and the
+// live preview (serve.cpp) share: loading, backend and options, the messages around the render, the stats' report.
 // Failures are thrown as AppFailure. Internal to src/app/.
 #pragma once
 

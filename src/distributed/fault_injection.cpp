@@ -28,6 +28,7 @@ class FailingSession final : public RenderSession {
   void SetCamera(const Camera& camera) override { inner_->SetCamera(camera); }
   void SetOptions(const RenderOptions& options) override { inner_->SetOptions(options); }
   void SceneChanged() override { inner_->SceneChanged(); }
+  void TopLevelChanged() override { inner_->TopLevelChanged(); }
 
  private:
   std::unique_ptr<RenderSession> inner_;

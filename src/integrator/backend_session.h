@@ -33,6 +33,7 @@ class BackendSession final : public RenderSession {
   void SetOptions(const RenderOptions& options) override { integrator_.ApplyOptions(options); }
   void SceneChanged() override { integrator_.SceneChanged(); }
   void TopLevelChanged() override { integrator_.TopLevelChanged(); }
+  void MaterialsChanged() override { integrator_.MaterialsChanged(); }
 
  private:
   Backend backend_;

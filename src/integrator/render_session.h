@@ -44,6 +44,10 @@ class RenderSession {
   // Scene: re-reads the top level alone (instances, top-level BVH, light probabilities), far
   // cheaper than SceneChanged for a scene of large meshes.
   virtual void TopLevelChanged() = 0;
+  // Only Scene::desc.materials changed, and BuildLightTable ran on the Scene again: re-reads
+  // the materials, the primitives' light indices and the light table, not the geometry (far
+  // cheaper than SceneChanged on the GPU for a scene of large meshes).
+  virtual void MaterialsChanged() = 0;
 };
 
 // Sessions on each backend. The Scene must outlive the session. MakeCudaSession throws

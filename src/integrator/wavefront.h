@@ -300,6 +300,7 @@ class WavefrontIntegrator {
   void ApplyOptions(const RenderOptions& options);
   void SceneChanged();
   void TopLevelChanged();
+  void MaterialsChanged();
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -50,17 +50,25 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
 }
 
-// The Scene was edited: its arrays again, and what the options derive from it.
+// The Scene was edited: its arrays again (a camera set on the session stays), and what the
+// options derive from it.
 template <typename Backend>
 void WavefrontIntegrator<Backend>::SceneChanged() {
   EnsureAllocated();
-  Camera camera = sceneBuffers_.view.camera;  // a camera set on the session stays
-  UploadScene(scene_, sceneBuffers_);
-  sceneBuffers_.view.camera = camera;
+  UploadSceneArrays(scene_, sceneBuffers_, [](const char*) { return true; });
   if (scene_.HasInstances() && hitInstance_.Size() < queue_.Size()) {
     hitInstance_.Resize(queue_.Size());
     pathState_.hitInstance = hitInstance_.Data();
   }
+  ApplyOptions(options_);
+}
+
+// Only materials were edited (and BuildLightTable ran): the arrays they reach, not the
+// geometry; the stage variant follows the materials' effects.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::MaterialsChanged() {
+  EnsureAllocated();
+  UploadSceneArrays(scene_, sceneBuffers_, IsAppearanceArray);
   ApplyOptions(options_);
 }
 

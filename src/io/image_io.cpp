@@ -181,19 +181,37 @@ void WriteFileAtomic(const std::string& path, const std::string& bytes) {
   }
 }
 
+std::string EncodeImage(const std::string& name, const FilmImage& image, ImageFormat format,
+                        bool withExtras) {
+  CheckImageSize(name, image);
+  switch (format) {
+    case ImageFormat::kPng: return EncodePng(name, image);
+    case ImageFormat::kExr: return EncodeImageExr(name, image, withExtras);
+    case ImageFormat::kPfm: return EncodePfm(image);
+  }
+  throw ImageError(name + ": unknown image format");
+}
+
+std::string EncodeJpeg(int width, int height, const std::vector<uint8_t>& srgb, int quality) {
+  if (width <= 0 || height <= 0 || srgb.size() != size_t(width) * size_t(height) * 3) {
+    throw ImageError("JPEG: image size does not match its pixel data");
+  }
+  std::string out;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+  };
+  if (!stbi_write_jpg_to_func(append, &out, width, height, 3, srgb.data(), quality)) {
+    throw ImageError("JPEG encoding failed");
+  }
+  return out;
+}
+
 void WriteImage(const std::string& path, const FilmImage& image, bool withExtras) {
   ImageFormat format;
   if (!ImageFormatFromPath(path, &format)) {
     throw ImageError(path + ": unknown image extension (use .png, .exr or .pfm)");
   }
-  CheckImageSize(path, image);
-  std::string bytes;
-  switch (format) {
-    case ImageFormat::kPng: bytes = EncodePng(path, image); break;
-    case ImageFormat::kExr: bytes = EncodeImageExr(path, image, withExtras); break;
-    case ImageFormat::kPfm: bytes = EncodePfm(image); break;
-  }
-  WriteFileAtomic(path, bytes);
+  WriteFileAtomic(path, EncodeImage(path, image, format, withExtras));
 }
 
 bool CheckWritable(const std::string& path, std::string* why) {

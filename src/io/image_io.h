@@ -37,6 +37,13 @@ uint8_t LinearToSrgb8(float linear);
 // them. Throws ImageError on an unknown extension, a size mismatch or any I/O failure.
 void WriteImage(const std::string& path, const FilmImage& image, bool withExtras = false);
 
+// The bytes WriteImage would write for this format; `name` is for messages.
+std::string EncodeImage(const std::string& name, const FilmImage& image, ImageFormat format,
+                        bool withExtras = false);
+
+// 8-bit sRGB pixels (3 a pixel, rows top to bottom) as a baseline JPEG of quality 1..100.
+std::string EncodeJpeg(int width, int height, const std::vector<uint8_t>& srgb, int quality);
+
 // Writes bytes to path through a temporary file in the same folder and a rename.
 void WriteFileAtomic(const std::string& path, const std::string& bytes);
 

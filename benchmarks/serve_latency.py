@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""Latency and frame rate of the live preview (pathtracer --serve), measured as a page sees it.
+
+Starts `pathtracer SCENE --serve 0` with the given size and backend, waits for the first frame,
+then sends N camera edits (a small orbit each), one at a time: for each, the time from sending
+the POST to receiving the first frame of its generation (the long poll /api/frame), and the
+server's own edit_to_frame_ms. Then it lets the render run for --seconds and counts frames and
+samples per second. Prints one summary line per quantity (median, p90) and, with --json, writes
+them. Standard library only.
+
+  python3 benchmarks/serve_latency.py --pathtracer build/pathtracer --scene scenes/cornell_box.json \
+      --width 512 --height 512 --backend cpu
+  # GPU, 1080p (the lead's run): --backend cuda --width 1920 --height 1080
+"""
+import argparse
+import http.client
+import json
+import math
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+
+class Client:
+    def __init__(self, port):
+        self.port = port
+
+    def request(self, method, path, body=None):
+        c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=30)
+        headers = {"Content-Type": "application/json"} if body is not None else {}
+        c.request(method, path, body=json.dumps(body) if body is not None else None, headers=headers)
+        r = c.getresponse()
+        data = r.read()
+        c.close()
+        return r.status, dict(r.getheaders()), data
+
+    def frame(self, after):
+        status, headers, _ = self.request("GET", f"/api/frame?after={after}")
+        if status != 200:
+            return None
+        return {k: int(headers[h]) for k, h in
+                (("id", "X-Frame-Id"), ("generation", "X-Generation"), ("spp", "X-Spp"))}
+
+
+def percentile(values, p):
+    s = sorted(values)
+    return s[min(len(s) - 1, int(math.ceil(p / 100 * len(s))) - 1)]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--pathtracer", default="build/pathtracer")
+    ap.add_argument("--scene", default="scenes/cornell_box.json")
+    ap.add_argument("--width", type=int, default=512)
+    ap.add_argument("--height", type=int, default=512)
+    ap.add_argument("--backend", default="auto")
+    ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--edits", type=int, default=20)
+    ap.add_argument("--seconds", type=float, default=5.0)
+    ap.add_argument("--json", help="write the results here")
+    args = ap.parse_args()
+
+    command = [args.pathtracer, args.scene, "--serve", "0", "--width", str(args.width),
+               "--height", str(args.height), "--spp", "1000000", "--backend", args.backend,
+               "--quiet"]
+    if args.threads:
+        command += ["--threads", str(args.threads)]
+    server = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    line = server.stderr.readline()
+    match = re.search(r"http://[^:]+:(\d+)/", line)
+    if not match:
+        print("the server did not start:", line + server.stderr.read(), file=sys.stderr)
+        return 1
+    client = Client(int(match.group(1)))
+    try:
+        _, _, scene = client.request("GET", "/api/scene")
+        camera = json.loads(scene)["camera"]
+        last = client.frame(0)
+        latencies, server_ms, first_spp = [], [], []
+        for i in range(args.edits):
+            # A small orbit: the eye moves sideways around the look-at point.
+            angle = 0.02 * (1 if i % 2 == 0 else -1)
+            p, t = camera["position"], camera["look_at"]
+            dx, dz = p[0] - t[0], p[2] - t[2]
+            c, s = math.cos(angle), math.sin(angle)
+            camera["position"] = [t[0] + c * dx + s * dz, p[1], t[2] - s * dx + c * dz]
+            sent = time.perf_counter()
+            _, _, body = client.request("POST", "/api/camera", {"position": camera["position"]})
+            generation = json.loads(body)["generation"]
+            while True:
+                f = client.frame(last["id"])
+                if f is None:
+                    continue
+                last = f
+                if f["generation"] >= generation:
+                    break
+            latencies.append((time.perf_counter() - sent) * 1e3)
+            first_spp.append(f["spp"])
+            _, _, stats = client.request("GET", "/api/stats")
+            stats = json.loads(stats)
+            if "edit_to_frame_ms" in stats and stats["generation"] == generation:
+                server_ms.append(stats["edit_to_frame_ms"])
+        # Steady state: frames and samples per second with no edits.
+        start = time.perf_counter()
+        first = last
+        frames = 0
+        while time.perf_counter() - start < args.seconds:
+            f = client.frame(last["id"])
+            if f:
+                last = f
+                frames += 1
+        elapsed = time.perf_counter() - start
+        _, _, stats = client.request("GET", "/api/stats")
+        stats = json.loads(stats)
+        result = {
+            "scene": args.scene, "width": args.width, "height": args.height,
+            "backend": stats.get("backend"), "device": stats.get("device"),
+            "edits": args.edits,
+            "edit_to_frame_ms_median": statistics.median(latencies),
+            "edit_to_frame_ms_p90": percentile(latencies, 90),
+            "server_edit_to_frame_ms_median": statistics.median(server_ms) if server_ms else None,
+            "first_frame_spp_median": statistics.median(first_spp),
+            "frames_per_s": frames / elapsed,
+            "spp_per_s": (last["spp"] - first["spp"]) / elapsed,
+            "samples_per_s": stats.get("samples_per_s"),
+            "rays_per_s": stats.get("rays_per_s"),
+        }
+        print(f"{args.scene} {args.width}x{args.height} on {result['backend']} ({result['device']})")
+        print(f"  edit -> first frame (client): median {result['edit_to_frame_ms_median']:.1f} ms, "
+              f"p90 {result['edit_to_frame_ms_p90']:.1f} ms over {args.edits} camera edits "
+              f"(first frame at {result['first_frame_spp_median']:.0f} spp)")
+        if server_ms:
+            print(f"  edit -> frame encoded (server): median {result['server_edit_to_frame_ms_median']:.1f} ms")
+        print(f"  steady: {result['frames_per_s']:.1f} frames/s, {result['spp_per_s']:.1f} spp/s, "
+              f"{result['samples_per_s'] / 1e6:.2f} M samples/s, {result['rays_per_s'] / 1e6:.2f} M rays/s")
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(result, f, indent=2)
+        return 0
+    finally:
+        server.terminate()
+        server.wait()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

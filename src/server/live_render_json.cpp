@@ -1,0 +1,170 @@
+// LiveRender's JSON: the flags edit, the statistics of each frame and the scene description
+// the page builds its controls from.
+#include <cmath>
+
+#include "src/server/live_render.h"
+
+namespace pt {
+namespace {
+
+const char* ToggleName(Toggle t) {
+  return t == Toggle::kOn ? "on" : t == Toggle::kOff ? "off" : "auto";
+}
+const char* SortName(SortMode m) {
+  return m == SortMode::kMaterial ? "material" : m == SortMode::kOff ? "off" : "auto";
+}
+const char* IntegratorName(IntegratorMode m) {
+  return m == IntegratorMode::kBsdf ? "bsdf" : m == IntegratorMode::kNee ? "nee" : "mis";
+}
+
+const char* MaterialTypeName(MaterialType t) {
+  switch (t) {
+    case MaterialType::kDiffuse: return "diffuse";
+    case MaterialType::kEmissive: return "emissive";
+    case MaterialType::kConductor: return "conductor";
+    case MaterialType::kDielectric: return "dielectric";
+    case MaterialType::kPlastic: return "plastic";
+    default: return "other";
+  }
+}
+
+// One of a few names, or EditError 400 listing them.
+template <typename T>
+T Choice(const Json& value, const char* key, std::initializer_list<std::pair<const char*, T>> choices) {
+  std::string names;
+  for (const auto& [name, v] : choices) {
+    if (value.is_string() && value.get<std::string>() == name) return v;
+    names += names.empty() ? name : std::string("|") + name;
+  }
+  throw EditError(400, std::string("bad value for ") + key + ": " + value.dump() +
+                           " (expected " + names + ")");
+}
+
+int64_t Integer(const Json& value, const char* key) {
+  if (!value.is_number_integer()) {
+    throw EditError(400, std::string(key) + " must be an integer, not " + value.dump());
+  }
+  return value.get<int64_t>();
+}
+
+Json StagesJson(const StageTimes& s, double per) {
+  return Json{{"generate", s.generate / per}, {"intersect", s.intersect / per},
+              {"sort", s.sort / per},         {"shade", s.shade / per},
+              {"shadow", s.shadow / per},     {"compact", s.compact / per},
+              {"accumulate", s.accumulate / per}};
+}
+
+StageTimes Minus(const StageTimes& a, const StageTimes& b) {
+  return StageTimes{a.generate - b.generate, a.intersect - b.intersect, a.sort - b.sort,
+                    a.shade - b.shade,       a.shadow - b.shadow,       a.compact - b.compact,
+                    a.accumulate - b.accumulate};
+}
+
+uint64_t Rays(const RenderStats& s) { return s.cameraRays + s.extensionRays + s.shadowRays; }
+
+}  // namespace
+
+uint64_t LiveRender::EditOptions(const Json& fields) {
+  if (!fields.is_object()) throw EditError(400, "the options must be a JSON object");
+  return Queue([&](Pending& p) {
+    RenderOptions o = requestedOptions_;
+    std::optional<int64_t> maxDepth, spp;
+    for (const auto& [key, value] : fields.items()) {
+      if (key == "compact") {
+        o.compact = Choice<Toggle>(value, "compact",
+                                   {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
+      } else if (key == "sort") {
+        o.sort = Choice<SortMode>(value, "sort", {{"off", SortMode::kOff},
+                                                  {"material", SortMode::kMaterial},
+                                                  {"auto", SortMode::kAuto}});
+      } else if (key == "integrator") {
+        o.integrator = Choice<IntegratorMode>(value, "integrator", {{"mis", IntegratorMode::kMis},
+                                                                    {"bsdf", IntegratorMode::kBsdf},
+                                                                    {"nee", IntegratorMode::kNee}});
+      } else if (key == "specialize") {
+        if (!value.is_boolean()) throw EditError(400, "specialize must be true or false");
+        o.specialize = value.get<bool>();
+      } else if (key == "max_depth") {
+        maxDepth = Integer(value, "max_depth");
+      } else if (key == "spp") {
+        spp = Integer(value, "spp");
+      } else {
+        throw EditError(400, "unknown option \"" + key +
+                                 "\" (expected compact, sort, integrator, specialize, "
+                                 "max_depth or spp)");
+      }
+    }
+    // The loader's limits, checked before anything changes.
+    if (maxDepth) document_.SetRenderSetting("max_depth", *maxDepth);
+    if (spp) document_.SetRenderSetting("spp", *spp);
+    if (spp) p.spp = uint32_t(*spp);
+    if (maxDepth) p.maxDepth = int(*maxDepth);
+    if (fields.size() > (spp ? 1u : 0u)) {  // anything but the target spp restarts the film
+      requestedOptions_ = o;
+      p.options = o;
+      p.restart = true;
+    }
+  });
+}
+
+std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const {
+  double seconds = (now.renderMs - generationStart_.renderMs) / 1e3;
+  double samples = double(spp_) * width_ * height_;
+  double rays = double(Rays(now) - Rays(generationStart_));
+  Json j;
+  j["spp"] = spp_;
+  j["target_spp"] = targetSpp_;
+  j["generation"] = generation_;
+  j["width"] = width_;
+  j["height"] = height_;
+  j["backend"] = now.backend;
+  j["device"] = now.device;
+  j["threads"] = now.threads;
+  j["samples_per_s"] = seconds > 0.0 ? samples / seconds : 0.0;
+  j["rays_per_s"] = seconds > 0.0 ? rays / seconds : 0.0;
+  j["pass_ms"] = passMs / std::max<uint32_t>(1, passSpp);
+  j["stage_ms"] = StagesJson(Minus(now.stages, lastPassEnd_.stages), std::max<uint32_t>(1, passSpp));
+  j["compact_used"] = now.compactUsed;
+  j["sort_used"] = now.sortUsed;
+  j["specialization"] = now.specialization;
+  return j.dump();
+}
+
+std::string LiveRender::DescribeJson() const {
+  Json j;
+  std::lock_guard<std::mutex> lock(docMutex_);
+  j["scene"] = document_.Path();
+  j["width"] = width_;
+  j["height"] = height_;
+  j["camera"] = document_.CameraJson();
+  j["render"] = document_.RenderJson();
+  j["options"] = Json{{"compact", ToggleName(requestedOptions_.compact)},
+                      {"sort", SortName(requestedOptions_.sort)},
+                      {"integrator", IntegratorName(requestedOptions_.integrator)},
+                      {"specialize", requestedOptions_.specialize}};
+  Json objects = Json::array();
+  for (size_t i = 0; i < document_.ObjectCount(); ++i) {
+    const Json& o = document_.ObjectJson(i);
+    Json entry{{"index", i}, {"type", o.value("type", "")}};
+    if (o.contains("material")) entry["material"] = o["material"];
+    if (o.contains("file")) entry["file"] = o["file"];
+    objects.push_back(entry);
+  }
+  j["objects"] = objects;
+  Json materials = Json::array();
+  std::shared_lock<std::shared_mutex> sceneLock(sceneMutex_);
+  const SceneDesc& desc = scene_.desc;
+  for (size_t i = 0; i < desc.materials.size(); ++i) {
+    bool inFile = i < document_.MaterialCount();
+    Json entry{{"index", i},
+               {"name", i < desc.materialNames.size() ? desc.materialNames[i] : ""},
+               {"type", MaterialTypeName(desc.materials[i].type)},
+               {"editable", inFile}};
+    if (inFile) entry["fields"] = document_.MaterialJson(i);
+    materials.push_back(entry);
+  }
+  j["materials"] = materials;
+  return j.dump();
+}
+
+}  // namespace pt

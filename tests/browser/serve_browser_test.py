@@ -1,0 +1,239 @@
+#!/usr/bin/env python3
+"""The live preview in a real headless Chromium, driven over the DevTools protocol (a pipe, no
+extra packages): the page converges past a few spp, a drag orbits the camera (the image changes
+and the accumulation starts over), a click selects the tall box and a drag moves it, its material
+is edited through the page's form, and the compaction flag is switched off. Screenshots of each step go to --out.
+
+Exit 0 passed, 1 failed, 77 skipped (no chromium, or a pathtracer built without the server).
+usage: serve_browser_test.py --pathtracer BIN --scene SCENE.json --out DIR
+"""
+import argparse
+import base64
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SKIP = 77
+
+
+class DevTools:
+    """Chromium's --remote-debugging-pipe: JSON messages ended by NUL on fds 3 (in) and 4 (out)."""
+
+    def __init__(self, chromium, profile):
+        to_chrome_r, self.to_chrome = os.pipe()
+        self.from_chrome, from_chrome_w = os.pipe()
+        # The browser reads fd 3 and writes fd 4: a shell puts our pipe ends there.
+        command = [chromium, "--headless=new", "--remote-debugging-pipe", "--no-sandbox",
+                   "--disable-gpu", "--no-first-run", "--no-default-browser-check",
+                   "--user-data-dir=" + profile, "--window-size=1280,900", "about:blank"]
+        self.proc = subprocess.Popen(
+            ["bash", "-c", f'exec "$@" 3<&{to_chrome_r} 4>&{from_chrome_w}', "bash"] + command,
+            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            pass_fds=(to_chrome_r, from_chrome_w))
+        os.close(to_chrome_r)
+        os.close(from_chrome_w)
+        self.buffer = b""
+        self.next_id = 0
+        self.session = None
+
+    def call(self, method, params=None, session=True, timeout=30):
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params or {}}
+        if session and self.session:
+            message["sessionId"] = self.session
+        os.write(self.to_chrome, json.dumps(message).encode() + b"\0")
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            while b"\0" not in self.buffer:
+                chunk = os.read(self.from_chrome, 1 << 20)
+                if not chunk:
+                    raise RuntimeError("chromium closed the DevTools pipe")
+                self.buffer += chunk
+            raw, self.buffer = self.buffer.split(b"\0", 1)
+            reply = json.loads(raw)
+            if reply.get("id") == self.next_id:
+                if "error" in reply:
+                    raise RuntimeError(f"{method}: {reply['error']}")
+                return reply.get("result", {})
+        raise RuntimeError(f"{method}: no answer in {timeout} s")
+
+    def open(self, url):
+        target = self.call("Target.createTarget", {"url": "about:blank"}, session=False)
+        attached = self.call("Target.attachToTarget",
+                             {"targetId": target["targetId"], "flatten": True}, session=False)
+        self.session = attached["sessionId"]
+        self.call("Page.enable")
+        self.call("Page.navigate", {"url": url})
+
+    def eval(self, expression):
+        result = self.call("Runtime.evaluate", {"expression": expression, "awaitPromise": True,
+                                                "returnByValue": True})
+        if "exceptionDetails" in result:
+            raise RuntimeError(f"{expression}: {result['exceptionDetails']}")
+        return result["result"].get("value")
+
+    def mouse(self, kind, x, y, buttons=0):
+        self.call("Input.dispatchMouseEvent",
+                  {"type": kind, "x": x, "y": y, "button": "left" if kind != "mouseMoved" or buttons
+                   else "none", "buttons": buttons, "clickCount": 1 if kind != "mouseMoved" else 0})
+
+    def drag(self, x0, y0, dx, dy, steps=8):
+        self.mouse("mousePressed", x0, y0, 1)
+        time.sleep(0.2)  # the page picks on press; moves before the answer are queued anyway
+        for i in range(1, steps + 1):
+            self.mouse("mouseMoved", x0 + dx * i / steps, y0 + dy * i / steps, 1)
+            time.sleep(0.03)
+        self.mouse("mouseReleased", x0 + dx, y0 + dy, 0)
+
+    def screenshot(self, path):
+        data = self.call("Page.captureScreenshot", {"format": "png"})["data"]
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(data))
+
+    def close(self):
+        try:
+            self.call("Browser.close", session=False, timeout=5)
+        except Exception:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+
+
+def wait_for(check, what, timeout=60):
+    deadline = time.time() + timeout
+    error = None
+    while time.time() < deadline:
+        try:
+            value = check()
+            if value:
+                return value
+        except RuntimeError as e:  # the page is still loading
+            error = e
+        time.sleep(0.1)
+    raise AssertionError(f"timed out waiting for {what}" + (f" (last error: {error})" if error else ""))
+
+
+# A checksum of the image the page shows, drawn into a canvas.
+IMAGE_SUM = """(async () => { const img = document.getElementById('view');
+  await img.decode().catch(() => {}); if (!img.naturalWidth) return null;
+  const c = document.createElement('canvas'); c.width = img.naturalWidth; c.height = img.naturalHeight;
+  const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data; let s = 0;
+  for (let i = 0; i < d.length; i += 4) s += d[i] + 3 * d[i + 1] + 7 * d[i + 2];
+  return s; })()"""
+
+FETCH_JSON = "fetch('{}', {{cache: 'no-store'}}).then(r => r.json())"
+
+
+def run(args, dt, port, out):
+    dt.open(f"http://127.0.0.1:{port}/")
+    state = lambda: dt.eval("({spp: preview.spp, generation: preview.generation})")
+    first = wait_for(lambda: (s := state()) and s["spp"] >= args.converge and s, "convergence")
+    print(f"converged past {args.converge} spp: {first['spp']} spp")
+    dt.screenshot(os.path.join(out, "1_converged.png"))
+    rect = dt.eval("(() => { const r = document.getElementById('view').getBoundingClientRect();"
+                   " return [r.left, r.top, r.width, r.height]; })()")
+    left, top, width, height = rect
+    before_sum = wait_for(lambda: dt.eval(IMAGE_SUM), "the image's pixels")
+
+    # Orbit: a drag that starts on the room (nothing selected yet).
+    before = state()
+    dt.drag(left + width * 0.5, top + height * 0.15, width * 0.2, 0)
+    orbited = wait_for(lambda: (s := state()) and s["generation"] > before["generation"] and s,
+                       "the orbit's frame")
+    assert orbited["spp"] < before["spp"], f"accumulation not restarted: {before} -> {orbited}"
+    after_sum = wait_for(lambda: (v := dt.eval(IMAGE_SUM)) and v != before_sum and v, "a changed image")
+    print(f"orbit: generation {orbited['generation']}, spp {before['spp']} -> {orbited['spp']}, "
+          f"image sum {before_sum} -> {after_sum}")
+    dt.screenshot(os.path.join(out, "2_orbited.png"))
+
+    # Back to the file's camera, then select the tall box by a click and drag it right.
+    dt.eval("document.getElementById('c-reset').click()")
+    # Reset once the server's camera (the one picks use) sees the tall box (object 6) there.
+    pick = ("fetch('/api/pick', {method: 'POST', headers: {'Content-Type': 'application/json'},"
+            " body: JSON.stringify({x: 18.5, y: 30.5})}).then(r => r.json())")
+    wait_for(lambda: dt.eval(pick)["object"] == 6, "the camera reset")
+    bx, by = left + width * 18.5 / 48, top + height * 30.5 / 48
+    dt.mouse("mousePressed", bx, by, 1)
+    dt.mouse("mouseReleased", bx, by, 0)
+    selection = wait_for(lambda: (t := dt.eval("document.getElementById('selection').textContent"))
+                         and t.startswith("object ") and t, "a selection")
+    assert selection.startswith("object 6 "), selection
+    x_before = dt.eval(FETCH_JSON.format("/api/scene.json"))["objects"][6]["transform"]["translate"][0]
+    dt.drag(bx, by, width * 0.15, 0)
+    moved = wait_for(lambda: (d := dt.eval(FETCH_JSON.format("/api/scene.json")))
+                     ["objects"][6]["transform"]["translate"][0] > x_before + 0.1 and d, "the move")
+    print(f"selected \"{selection}\"; moved x {x_before:.3f} -> "
+          f"{moved['objects'][6]['transform']['translate'][0]:.3f}")
+    wait_for(lambda: state()["spp"] >= 2, "the moved box's frame")
+    dt.screenshot(os.path.join(out, "3_moved.png"))
+
+    # The selected box's material (white, index 0) made blue through the page's form.
+    dt.eval("(() => { const f = document.getElementById('material');"
+            " [0.1, 0.2, 0.9].forEach((v, i) => { const e = f.elements['albedo.' + i]; e.value = v;"
+            " e.dispatchEvent(new Event('change')); }); })()")
+    albedo = lambda: dt.eval(FETCH_JSON.format("/api/scene.json"))["materials"]["white"]["albedo"]
+    wait_for(lambda: albedo() == [0.1, 0.2, 0.9], "the material edit")
+    print(f"material edited through the form: white albedo {albedo()}")
+
+    # Compaction off, as a user picks it in the Flags section.
+    dt.eval("(() => { const s = document.getElementById('f-compact'); s.value = 'off';"
+            " s.dispatchEvent(new Event('change')); })()")
+    stats = wait_for(lambda: (s := dt.eval(FETCH_JSON.format("/api/stats")))
+                     and s.get("compact_used") is False and s["spp"] >= 1 and s, "compaction off")
+    print(f"compaction off: compact_used {stats['compact_used']} at {stats['spp']} spp")
+    dt.screenshot(os.path.join(out, "4_compaction_off.png"))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--pathtracer", required=True)
+    parser.add_argument("--scene", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--converge", type=int, default=8)
+    args = parser.parse_args()
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not chromium:
+        print("skipped: no chromium")
+        return SKIP
+    os.makedirs(args.out, exist_ok=True)
+    server = subprocess.Popen(
+        [args.pathtracer, args.scene, "--serve", "0", "--width", "48", "--height", "48",
+         "--spp", "100000", "--threads", "1"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    line = server.stderr.readline()
+    match = re.search(r"http://127\.0\.0\.1:(\d+)/", line)
+    if not match:
+        server.wait()
+        rest = server.stderr.read()
+        if "no preview server" in line + rest:
+            print("skipped: pathtracer was built without the preview server")
+            return SKIP
+        print(f"the server did not start: {line}{rest}")
+        return 1
+    profile = tempfile.mkdtemp(prefix="pt-chromium-")
+    dt = DevTools(chromium, profile)
+    try:
+        run(args, dt, int(match.group(1)), args.out)
+        print(f"passed; screenshots in {args.out}")
+        return 0
+    except (AssertionError, RuntimeError) as e:
+        print(f"FAILED: {e}")
+        return 1
+    finally:
+        dt.close()
+        shutil.rmtree(profile, ignore_errors=True)
+        server.terminate()
+        server.wait()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,99 @@
+// The live preview served on 127.0.0.1 for tests (only in a build with the server).
+#pragma once
+
+#if defined(PT_HAVE_SERVER)
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "src/io/scene_loader.h"
+#include "src/server/http_server.h"
+#include "src/server/live_render.h"
+#include "tests/test_util.h"
+
+namespace pt::test {
+
+using Clock = std::chrono::steady_clock;
+
+// A served Cornell box, 48x48 at `spp` samples, on two CPU threads (or the session `make`
+// makes), with the server on a free port of 127.0.0.1 and a client of it.
+class Served {
+ public:
+  explicit Served(int spp, MakeSessionFn make = &MakeCpuSession, int side = 48) {
+    std::string path = SourcePath("scenes/cornell_box.json");
+    SceneDesc desc = LoadScene(path);
+    desc.render.width = side;
+    desc.render.height = side;
+    desc.render.spp = spp;
+    SceneDocument document(path, desc.render);
+    LiveSettings settings;
+    settings.options.threads = 2;
+    settings.framesPerSecond = 50;
+    live_ = std::make_unique<LiveRender>(std::move(document), BuildScene(std::move(desc)),
+                                         std::move(make), settings);
+    HttpServerConfig config;
+    config.port = 0;
+    config.threads = 16;
+    server_ = StartHttpServer(*live_, config);
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->Port());
+    client_->set_read_timeout(10, 0);
+  }
+  ~Served() {
+    server_->Stop();
+    live_->Stop();
+  }
+
+  LiveRender& Live() { return *live_; }
+  httplib::Client& Client() { return *client_; }
+  int Port() const { return server_->Port(); }
+
+  httplib::Result Post(const std::string& path, const std::string& body) {
+    return client_->Post(path.c_str(), body, "application/json");
+  }
+  Json PostJson(const std::string& path, const std::string& body, int status = 200) {
+    auto r = Post(path, body);
+    EXPECT_TRUE(r) << path;
+    if (!r) return Json();
+    EXPECT_EQ(r->status, status) << path << " " << body << ": " << r->body;
+    return Json::parse(r->body, nullptr, false);
+  }
+  Json GetJson(const std::string& path) {
+    auto r = client_->Get(path.c_str());
+    EXPECT_TRUE(r && r->status == 200) << path;
+    return r ? Json::parse(r->body, nullptr, false) : Json();
+  }
+
+  struct Frame {
+    uint64_t id = 0, generation = 0;
+    uint32_t spp = 0;
+    std::string jpeg;
+  };
+  // Long-polls frames until one of at least `generation` with at least `spp` samples.
+  Frame WaitFrame(uint64_t generation, uint32_t spp) {
+    Frame f;
+    auto deadline = Clock::now() + std::chrono::seconds(60);
+    while (Clock::now() < deadline) {
+      auto r = client_->Get(("/api/frame?after=" + std::to_string(f.id)).c_str());
+      if (!r) break;
+      if (r->status != 200) continue;
+      f.id = std::stoull(r->get_header_value("X-Frame-Id"));
+      f.generation = std::stoull(r->get_header_value("X-Generation"));
+      f.spp = uint32_t(std::stoul(r->get_header_value("X-Spp")));
+      f.jpeg = r->body;
+      if (f.generation >= generation && f.spp >= spp) return f;
+    }
+    ADD_FAILURE() << "no frame of generation " << generation << " with " << spp << " spp";
+    return f;
+  }
+
+ private:
+  std::unique_ptr<LiveRender> live_;
+  std::unique_ptr<HttpServer> server_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+}  // namespace pt::test
+#endif
