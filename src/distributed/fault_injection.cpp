@@ -29,6 +29,7 @@ class FailingSession final : public RenderSession {
   void SetOptions(const RenderOptions& options) override { inner_->SetOptions(options); }
   void SceneChanged() override { inner_->SceneChanged(); }
   void TopLevelChanged() override { inner_->TopLevelChanged(); }
+  void MaterialsChanged() override { inner_->MaterialsChanged(); }
 
  private:
   std::unique_ptr<RenderSession> inner_;
