@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench special}"
+STEPS="${STEPS:-info tests sanitize bench special gltf}"
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -59,4 +59,10 @@ if [[ " $STEPS " == *" special "* ]]; then
   python3 benchmarks/bench.py --binary "$BIN/pathtracer" --backend cuda --repeats "${REPEATS:-5}" \
     $SCENES --variants "auto:auto:--specialize=on,auto:auto:--specialize=off" \
     --out "$OUT/bench_special" -- --spp 64
+fi
+
+if [[ " $STEPS " == *" gltf "* ]]; then
+  step "glTF materials: DamagedHelmet and TransmissionTest at 1080p, full material against legacy"
+  python3 benchmarks/gltf_materials_bench.py --binary "$BIN/pathtracer" --backend cuda \
+    --repeats "${REPEATS:-3}" --out "$OUT/gltf_materials"
 fi

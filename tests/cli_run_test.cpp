@@ -178,7 +178,8 @@ TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
   // The whole run's wall time holds every phase.
   double total = j["time_ms"]["total"];
   EXPECT_GE(total, j["time_ms"]["render"].get<double>() + j["time_ms"]["load"].get<double>());
-  for (const char* key : {"triangles", "primitives", "lights", "effects"}) {
+  for (const char* key :
+       {"triangles", "primitives", "lights", "textures", "texture_bytes", "effects"}) {
     EXPECT_TRUE(j["scene"].contains(key)) << key;
   }
   for (const char* key : {"total", "load", "bvh_build", "upload", "render", "stages"}) {

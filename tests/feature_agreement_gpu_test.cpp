@@ -14,20 +14,6 @@ namespace {
 
 bool HaveGpu() { return CudaDeviceCount() > 0; }
 
-// Means over windows of two independent renders agree: z on the difference with the films'
-// variances. The call's count x 3 comparisons share a false-alarm budget of 1e-4 (Bonferroni).
-void ExpectWindowsAgree(const FilmImage& a, const FilmImage& b, int windows[][4], int count,
-                        const char* what) {
-  double z = TwoSidedNormalQuantile(1e-4 / (count * 3));
-  for (int w = 0; w < count; ++w)
-    for (int c = 0; c < 3; ++c) {
-      WindowMean ma = MeanOverWindow(a, c, windows[w][0], windows[w][1], windows[w][2], windows[w][3]);
-      WindowMean mb = MeanOverWindow(b, c, windows[w][0], windows[w][1], windows[w][2], windows[w][3]);
-      EXPECT_LT(std::abs(ma.mean - mb.mean), z * std::sqrt(ma.varianceOfMean + mb.varianceOfMean))
-          << what << " window " << w << " channel " << c << ": " << ma.mean << " vs " << mb.mean;
-    }
-}
-
 Scene CornellSmall(uint32_t seed, int spp) {
   SceneDesc d = LoadScene(SourcePath("scenes/cornell_glass_mirror.json"));
   d.render.width = d.render.height = 48;

@@ -1,11 +1,13 @@
-// glTF texture coordinates and base colour textures through the scene loader: a hand-written
-// .gltf (float, normalized unsigned byte and short TEXCOORD_0, an external PNG, samplers, an
-// undecodable image no used material needs) and the Khronos Duck.
+// glTF texture coordinates and textures through the scene loader: a hand-written .gltf (float
+// and normalized unsigned byte TEXCOORD_0, normalized unsigned short TEXCOORD_1, an external
+// PNG used as sRGB colour and as linear data, samplers, KHR_texture_transform, an undecodable
+// image no used material needs) and the Khronos Duck.
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "src/io/gltf_loader.h"
+#include "src/materials/texture.h"
+#include "src/materials/texture_pyramid.h"
 #include "src/io/scene_loader.h"
 #include "tests/test_util.h"
 #include "tests/texture_test_util.h"
@@ -18,7 +20,7 @@ const uint8_t kTexels[4][4] = {{255, 0, 0, 10}, {0, 255, 0, 255}, {0, 0, 255, 12
 
 // dir/m.gltf + m.bin + tex.png. Primitives in order: B (1 triangle, no UVs, material
 // `firstMaterial`), A (the square, float UVs, "checker"), C (ubyte UVs, "metal"), D (ushort
-// UVs, "second-set"), E (no UVs, "checker").
+// TEXCOORD_1, "second-set"), E (no UVs, "checker").
 void WriteModel(const std::string& dir, int firstMaterial = 1) {
   const float positions[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
   const float uvs[8] = {0, 1, 1, 1, 1, 0, 0, 0};
@@ -44,7 +46,7 @@ void WriteModel(const std::string& dir, int firstMaterial = 1) {
       {"attributes": {"POSITION": 3}, "material": )" << firstMaterial << R"(},
       {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0},
       {"attributes": {"POSITION": 3, "TEXCOORD_0": 4}, "material": 3},
-      {"attributes": {"POSITION": 3, "TEXCOORD_0": 5}, "material": 4},
+      {"attributes": {"POSITION": 3, "TEXCOORD_1": 5}, "material": 4},
       {"attributes": {"POSITION": 3}, "material": 0}]}],
     "materials": [
       {"name": "checker", "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.25,
@@ -104,7 +106,7 @@ TEST(GltfTextures, HandWrittenModelUvsTexelsSamplersAndMaterials) {
   SceneDesc s = LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf"})");
   ASSERT_EQ(s.triangles.size(), 6u);
   ASSERT_EQ(s.triangleUvs.size(), 6u);
-  ExpectUv(s.triangleUvs[0].uv0, vec2(0));  // B has no TEXCOORD_0: zeros
+  ExpectUv(s.triangleUvs[0].uv0, vec2(0));  // B's material reads no texture: zeros
   ExpectUv(s.triangleUvs[0].uv2, vec2(0));
   ExpectUv(s.triangleUvs[1].uv0, vec2(0, 1));  // A: vertices 0, 1, 2 then 0, 2, 3
   ExpectUv(s.triangleUvs[1].uv1, vec2(1, 1));
@@ -112,51 +114,70 @@ TEST(GltfTextures, HandWrittenModelUvsTexelsSamplersAndMaterials) {
   ExpectUv(s.triangleUvs[2].uv2, vec2(0, 0));
   ExpectUv(s.triangleUvs[3].uv1, vec2(1, 128.0f / 255.0f));  // C: normalized unsigned byte
   ExpectUv(s.triangleUvs[3].uv2, vec2(0.2f, 1));
-  ExpectUv(s.triangleUvs[4].uv1, vec2(1, 32768.0f / 65535.0f));  // D: normalized unsigned short
-  ExpectUv(s.triangleUvs[4].uv2, vec2(0.2f, 1));
+  ExpectUv(s.triangleUvs[4].uv1, vec2(0));  // D reads TEXCOORD_1 only
   ExpectUv(s.triangleUvs[5].uv1, vec2(0));  // E: textured material without UVs, read at (0, 0)
+  ASSERT_EQ(s.triangleUvs1.size(), 6u);  // only D has (and reads) TEXCOORD_1
+  ExpectUv(s.triangleUvs1[4].uv1, vec2(1, 32768.0f / 65535.0f));  // normalized unsigned short
+  ExpectUv(s.triangleUvs1[4].uv2, vec2(0.2f, 1));
+  ExpectUv(s.triangleUvs1[3].uv1, vec2(0));
 
-  // One decoded image (the undecodable one belongs to an unused material), linear RGB.
-  ASSERT_EQ(s.texels.size(), 4u);
-  for (int i = 0; i < 4; ++i) {
-    for (int c = 0; c < 3; ++c) EXPECT_EQ(s.texels[i][c], Srgb8ToLinear(kTexels[i][c])) << i << c;
+  // One image, decoded twice: as sRGB colour (base colour) and as linear data (the normal
+  // texture). Each is a 2 x 2 + 1 x 1 pyramid whose level 0 is the PNG's codes, alpha kept.
+  ASSERT_EQ(s.texels.size(), 2u * 5u);
+  ASSERT_EQ(s.textures.size(), 3u);  // sRGB with the clamp/mirror sampler, its repeat view, linear
+  for (int t : {0, 2}) {
+    ASSERT_EQ(s.textures[t].levels, 2u);
+    for (int i = 0; i < 4; ++i) {
+      const uint8_t* c = kTexels[i];
+      EXPECT_EQ(s.texels[s.textures[t].offset + i], PackRgba8(c[0], c[1], c[2], c[3])) << t << i;
+    }
   }
-  ASSERT_EQ(s.textures.size(), 2u);  // the clamp/mirror sampler, and a repeat view of the same texels
-  const Material& checker = s.materials[s.triangleMaterials[1]];
-  ASSERT_EQ(checker.baseColorTexture, 0);
-  EXPECT_EQ(s.textures[0].width, 2u);
-  EXPECT_EQ(s.textures[0].height, 2u);
+  EXPECT_EQ(s.textures[0].srgb, 1u);
+  EXPECT_EQ(s.textures[2].srgb, 0u);
+  EXPECT_EQ(s.textures[1].offset, s.textures[0].offset);
   EXPECT_EQ(s.textures[0].wrapS, TextureWrap::kClampToEdge);
   EXPECT_EQ(s.textures[0].wrapT, TextureWrap::kMirroredRepeat);
-  EXPECT_EQ(checker.type, MaterialType::kPlastic);
-  EXPECT_FLOAT_EQ(checker.ior, 1.5f);
-  EXPECT_FLOAT_EQ(checker.roughness, 0.25f);
-  EXPECT_EQ(checker.albedo, vec3(0.5f, 1, 1));  // the factor; the texture multiplies at lookup
-  const Material& metal = s.materials[s.triangleMaterials[3]];
-  ASSERT_EQ(metal.baseColorTexture, 1);
-  EXPECT_EQ(s.textures[1].offset, s.textures[0].offset);
   EXPECT_EQ(s.textures[1].wrapS, TextureWrap::kRepeat);
   EXPECT_EQ(s.textures[1].wrapT, TextureWrap::kRepeat);
-  EXPECT_EQ(metal.type, MaterialType::kConductor);
+
+  const Material& checker = s.materials[s.triangleMaterials[1]];
+  EXPECT_EQ(checker.type, MaterialType::kGltfPbr);
+  EXPECT_FLOAT_EQ(checker.metallic, 0.0f);
+  EXPECT_FLOAT_EQ(checker.roughness, 0.25f);
+  EXPECT_FLOAT_EQ(checker.ior, 1.5f);
+  EXPECT_EQ(checker.albedo, vec3(0.5f, 1, 1));  // the factor; the texture multiplies at lookup
+  ASSERT_GE(checker.baseColorTexture, 0);
+  EXPECT_EQ(s.textureRefs[checker.baseColorTexture].texture, 0);
+  EXPECT_EQ(checker.flags, uint32_t(kMaterialCullBack | kMaterialThinWalled));  // single-sided
+  const Material& metal = s.materials[s.triangleMaterials[3]];
+  EXPECT_FLOAT_EQ(metal.metallic, 1.0f);  // the glTF defaults
   EXPECT_FLOAT_EQ(metal.roughness, 1.0f);
+  EXPECT_TRUE(metal.flags & kMaterialAlphaMask);
+  EXPECT_FLOAT_EQ(metal.alphaCutoff, 0.5f);
+  ASSERT_GE(metal.baseColorTexture, 0);
+  const TextureRef& scaled = s.textureRefs[metal.baseColorTexture];
+  EXPECT_EQ(scaled.texture, 1);
+  EXPECT_EQ(scaled.row0, vec3(2, 0, 0));  // KHR_texture_transform scale [2, 2]
+  EXPECT_EQ(scaled.row1, vec3(0, 2, 0));
+  ASSERT_GE(metal.normalTexture, 0);
+  EXPECT_EQ(s.textureRefs[metal.normalTexture].texture, 2);
+  const Material& second = s.materials[s.triangleMaterials[4]];
+  ASSERT_GE(second.baseColorTexture, 0);
+  EXPECT_EQ(s.textureRefs[second.baseColorTexture].texCoord, 1u);
   const Material& plain = s.materials[s.triangleMaterials[0]];
-  EXPECT_EQ(plain.type, MaterialType::kConductor);
+  EXPECT_FLOAT_EQ(plain.metallic, 1.0f);
   EXPECT_FLOAT_EQ(plain.roughness, 0.5f);
   EXPECT_EQ(plain.baseColorTexture, -1);
   EXPECT_EQ(s.materials.size(), 1u + 4u);  // the scene's grey and four: "unused" never added
 
-  // Warnings only for what is not honoured, each naming its material.
-  std::string metalWarnings = WarningsNaming(s, "\"metal\"");
-  for (const char* what : {"normalTexture", "alphaMode MASK", "KHR_texture_transform"}) {
-    EXPECT_NE(metalWarnings.find(what), std::string::npos) << what << " in: " << metalWarnings;
-  }
-  EXPECT_NE(WarningsNaming(s, "\"second-set\"").find("TEXCOORD_1"), std::string::npos);
-  std::string checkerWarnings = WarningsNaming(s, "\"checker\"");
-  EXPECT_NE(checkerWarnings.find("without TEXCOORD_0"), std::string::npos) << checkerWarnings;
-  EXPECT_EQ(checkerWarnings.find(';'), std::string::npos) << checkerWarnings;  // only that
-  EXPECT_EQ(WarningsNaming(s, "\"plain\""), "");
-  EXPECT_EQ(WarningsNaming(s, "decoded"), "");
-  EXPECT_EQ(s.warnings.size(), 3u);
+  // One summary line for the file, naming only what is not honoured, with material counts.
+  ASSERT_EQ(s.warnings.size(), 1u) << s.warnings.front();
+  const std::string& w = s.warnings[0];
+  EXPECT_EQ(w.rfind("m.gltf: materials: ", 0), 0u) << w;
+  EXPECT_NE(w.find("textures read at (0, 0) on primitives without TEXCOORD_0 (1 material)"),
+            std::string::npos) << w;
+  for (const char* honoured : {"normalTexture", "MASK", "KHR_texture_transform", "TEXCOORD_1", "decoded"})
+    EXPECT_EQ(w.find(honoured), std::string::npos) << honoured << " in: " << w;
 }
 
 TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsWarnedAndIgnored) {
@@ -166,23 +187,29 @@ TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsWarnedAndIgnored) {
   const Material& unused = s.materials[s.triangleMaterials[0]];
   EXPECT_EQ(unused.baseColorTexture, -1);
   EXPECT_EQ(unused.albedo, vec3(1.0f));
-  std::string w = WarningsNaming(s, "\"unused\"");
-  EXPECT_NE(w.find("cannot be decoded"), std::string::npos) << w;
+  std::string w = WarningsNaming(s, "materials: ");
+  EXPECT_NE(w.find("image #1 (image/png) cannot be decoded (1 material)"), std::string::npos) << w;
 }
 
-TEST(GltfTextures, OverrideDecodesNothingAndUvsStayParallelWithObj) {
+TEST(GltfTextures, OverrideDecodesNothingAndOptionalArraysStayParallel) {
   std::string dir = test::TempDir();
   WriteModel(dir);
   std::ofstream(dir + "/tri.obj") << "v 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\nf 1 2 3\nf 2 4 3\n";
-  // OBJ first (no coordinates), then the glTF with the scene's material, then OBJ again.
+  // The scene's material reads no texture: nothing is decoded and no coordinates are kept.
+  SceneDesc grey = LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf", "material": "grey"})");
+  EXPECT_TRUE(grey.textures.empty());
+  EXPECT_TRUE(grey.texels.empty());
+  EXPECT_TRUE(grey.triangleUvs.empty());
+  EXPECT_TRUE(grey.triangleColors.empty());
+  // OBJ first (no coordinates), then the glTF with its own materials, then OBJ again.
   SceneDesc s = LoadMeshes(dir, R"({"type": "mesh", "file": "tri.obj"},
-      {"type": "mesh", "file": "m.gltf", "material": "grey"}, {"type": "mesh", "file": "tri.obj"})");
+      {"type": "mesh", "file": "m.gltf"}, {"type": "mesh", "file": "tri.obj"})");
   ASSERT_EQ(s.triangles.size(), 2u + 6u + 2u);
   ASSERT_EQ(s.triangleUvs.size(), s.triangles.size());
-  for (size_t i : {0u, 1u, 2u, 7u, 8u, 9u}) ExpectUv(s.triangleUvs[i].uv1, vec2(0));
+  ASSERT_EQ(s.triangleUvs1.size(), s.triangles.size());
+  for (size_t i : {0u, 1u, 8u, 9u}) ExpectUv(s.triangleUvs[i].uv1, vec2(0));
   ExpectUv(s.triangleUvs[3].uv1, vec2(1, 1));
-  EXPECT_TRUE(s.textures.empty());
-  EXPECT_TRUE(s.texels.empty());
+  EXPECT_TRUE(s.triangleColors.empty());  // no COLOR_0 in the file
   // No mesh with coordinates: the vector stays empty.
   SceneDesc obj = LoadMeshes(dir, R"({"type": "mesh", "file": "tri.obj"})");
   EXPECT_TRUE(obj.triangleUvs.empty());
@@ -198,18 +225,23 @@ TEST(GltfTextures, KhronosDuckHasUvsAndItsTexture) {
   ASSERT_EQ(s.materials.size(), 2u);  // the scene's grey, then the duck's blinn3-fx
   const Material& m = s.materials[s.triangleMaterials[0]];
   EXPECT_NE(s.materialNames[s.triangleMaterials[0]].find(":blinn3-fx"), std::string::npos);
-  EXPECT_EQ(m.type, MaterialType::kPlastic);  // metallic 0
+  EXPECT_EQ(m.type, MaterialType::kGltfPbr);
+  EXPECT_FLOAT_EQ(m.metallic, 0.0f);
   EXPECT_FLOAT_EQ(m.roughness, 1.0f);
   ASSERT_EQ(m.baseColorTexture, 0);
   ASSERT_EQ(s.textures.size(), 1u);
   EXPECT_EQ(s.textures[0].width, 512u);
   EXPECT_EQ(s.textures[0].height, 512u);
-  EXPECT_EQ(s.texels.size(), 512u * 512u);
+  EXPECT_EQ(s.textures[0].levels, 10u);  // 512 down to 1
+  uint32_t levels = 0;
+  EXPECT_EQ(s.texels.size(), PyramidTexelCount(512, 512, &levels));  // 4 bytes each, 4/3 x 512^2
   EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
   // A yellow duck: the texture's mean is yellow (red and green well above blue).
   glm::dvec3 mean(0.0);
-  for (vec3 t : s.texels) mean += glm::dvec3(t);
-  mean /= double(s.texels.size());
+  for (uint32_t i = 0; i < 512u * 512u; ++i) {
+    for (int c = 0; c < 3; ++c) mean[c] += Srgb8ToLinear(uint8_t(s.texels[i] >> (8 * c)));
+  }
+  mean /= double(512 * 512);
   EXPECT_GT(mean.r, 2.0 * mean.b);
   EXPECT_GT(mean.g, 2.0 * mean.b);
   for (const TriangleUvs& t : s.triangleUvs) {

@@ -2,9 +2,12 @@
 // and compare images statistically with tolerances derived from the film's own variance.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "src/integrator/render_api.h"
 #include "src/io/scene_loader.h"
@@ -53,6 +56,25 @@ inline double TwoSidedNormalQuantile(double p) {
     (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+// Means over windows of two independent renders agree: z on the difference with the films'
+// variances, or within `relative` of the mean where the images are nearly noise-free (the
+// backends' rounding differs). The call's count x 3 comparisons share a false-alarm budget of
+// 1e-4 (Bonferroni). Windows are {x0, y0, x1, y1}.
+inline void ExpectWindowsAgree(const FilmImage& a, const FilmImage& b, const int windows[][4],
+                               int count, const char* what, double relative = 0.0) {
+  double z = TwoSidedNormalQuantile(1e-4 / (count * 3));
+  for (int w = 0; w < count; ++w)
+    for (int c = 0; c < 3; ++c) {
+      const int* r = windows[w];
+      WindowMean ma = MeanOverWindow(a, c, r[0], r[1], r[2], r[3]);
+      WindowMean mb = MeanOverWindow(b, c, r[0], r[1], r[2], r[3]);
+      double tolerance = std::max(z * std::sqrt(ma.varianceOfMean + mb.varianceOfMean),
+                                  relative * std::fabs(ma.mean));
+      EXPECT_LE(std::abs(ma.mean - mb.mean), tolerance)
+          << what << " window " << w << " channel " << c << ": " << ma.mean << " vs " << mb.mean;
+    }
 }
 
 // Two-sided normal quantiles: z such that P(|Z| > z) = p.

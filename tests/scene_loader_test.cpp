@@ -275,11 +275,12 @@ TEST(SceneGltf, KhronosBoxWithNodeTransform) {
   ExpectNormalsAgree(s);  // the node's y/z swap reaches positions and normals alike
   int red = MaterialNamed(s, ":Red");
   ASSERT_GE(red, 0);
-  EXPECT_EQ(s.materials[red].type, MaterialType::kPlastic);  // metallic 0: the glTF dielectric
+  EXPECT_EQ(s.materials[red].type, MaterialType::kGltfPbr);  // metallic 0: coated diffuse
+  EXPECT_FLOAT_EQ(s.materials[red].metallic, 0.0f);
   EXPECT_FLOAT_EQ(s.materials[red].ior, 1.5f);
   EXPECT_FLOAT_EQ(s.materials[red].roughness, 1.0f);  // glTF default roughness
   ExpectNear(s.materials[red].albedo, vec3(0.8f, 0, 0));
-  EXPECT_FALSE(AnyWarningContains(s, "\"Red\"")) << s.warnings.front();  // nothing approximated
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();  // nothing approximated
 }
 
 TEST(SceneGltf, BunnyNpmTriangleCount) {
@@ -291,7 +292,7 @@ TEST(SceneGltf, BunnyNpmTriangleCount) {
   EXPECT_EQ(s.triangleNormals[0].n0, vec3(0.0f));  // the file has no normals
 }
 
-TEST(SceneGltf, TransmissionMaterialsMapWithWarnings) {
+TEST(SceneGltf, TransmissionMaterialsMapWithTheirTints) {
   if (!test::HaveShared()) GTEST_SKIP() << "../shared is not present (a user's clone)";
   SceneDesc s = Load(Scene(R"({"type": "mesh", "file": ")" +
       test::SharedPath("assets/khronos/GlassHurricaneCandleHolder/glTF-Binary/"
@@ -300,20 +301,25 @@ TEST(SceneGltf, TransmissionMaterialsMapWithWarnings) {
   int glass = MaterialNamed(s, ":GlassHurricaneCandleHolder-glass");
   ASSERT_GE(glass, 0);
   const Material& g = s.materials[glass];
-  EXPECT_EQ(g.type, MaterialType::kDielectric);
+  EXPECT_EQ(g.type, MaterialType::kGltfPbr);
+  EXPECT_FLOAT_EQ(g.transmission, 1.0f);
   EXPECT_FLOAT_EQ(g.ior, 1.5f);
-  EXPECT_EQ(g.roughness, 1.0f);  // glTF default roughness 1: rough glass
-  EXPECT_EQ(g.baseColorTexture, -1);  // the tint of transmission is not honoured (warned)
+  EXPECT_EQ(g.roughness, 1.0f);  // glTF default roughness 1, scaled by the texture's G
+  EXPECT_GE(g.baseColorTexture, 0);  // the tint of transmission is honoured
+  EXPECT_GE(g.metallicRoughnessTexture, 0);
+  EXPECT_FALSE(g.flags & kMaterialThinWalled);  // thicknessFactor 0.1: a volume
+  EXPECT_FALSE(g.flags & kMaterialCullBack);    // rays inside must meet its back faces
   ExpectNear(g.absorption, vec3(-std::log(0.8f) / 0.001f, -std::log(0.95f) / 0.001f, 0), 1e-2f);
-  EXPECT_TRUE(AnyWarningContains(s, "GlassHurricaneCandleHolder-glass"));
-  EXPECT_FALSE(AnyWarningContains(s, "rough transmission"));
-  EXPECT_TRUE(AnyWarningContains(s, "baseColor tint of the transmission ignored"));
-  EXPECT_TRUE(AnyWarningContains(s, "thicknessTexture"));
+  // One summary line: only the occlusion textures (of both materials) are not honoured.
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("materials: occlusionTexture ignored (2 materials)"),
+            std::string::npos) << s.warnings[0];
+  EXPECT_EQ(s.warnings[0].find("thicknessTexture"), std::string::npos) << s.warnings[0];
   int opaque = MaterialNamed(s, ":GlassHurricaneCandleHolder-opaque");
   ASSERT_GE(opaque, 0);
-  EXPECT_EQ(s.materials[opaque].type, MaterialType::kConductor);  // glTF default metallic 1
+  EXPECT_EQ(s.materials[opaque].type, MaterialType::kGltfPbr);  // a textured metallic 1
   EXPECT_EQ(s.materials[opaque].roughness, 1.0f);
-  EXPECT_GE(s.materials[opaque].baseColorTexture, 0);  // decoded: the opaque part uses it
+  EXPECT_GE(s.materials[opaque].baseColorTexture, 0);
   EXPECT_EQ(s.triangleUvs.size(), s.triangles.size());
 
   SceneDesc iors = Load(Scene(R"({"type": "mesh", "file": ")" +
@@ -323,8 +329,10 @@ TEST(SceneGltf, TransmissionMaterialsMapWithWarnings) {
                            {":Mat_IOR_1.50", 1.5f}, {":Mat_IOR_2.42", 2.42f}}) {
     int m = MaterialNamed(iors, name);
     ASSERT_GE(m, 0) << name;
-    EXPECT_EQ(iors.materials[m].type, MaterialType::kDielectric) << name;
+    EXPECT_EQ(iors.materials[m].type, MaterialType::kGltfPbr) << name;
+    EXPECT_FLOAT_EQ(iors.materials[m].transmission, 1.0f) << name;
     EXPECT_FLOAT_EQ(iors.materials[m].ior, ior) << name;
+    ExpectNear(iors.materials[m].albedo, vec3(0.5f, 0.7f, 0.9f));  // the tint
   }
 }
 

@@ -28,6 +28,16 @@ class TempFolder {
 // skipped); ctest checks that a test run leaves nothing behind (tests/CMakeLists.txt).
 std::string TempDir();
 
+// A fresh folder that is removed, with everything in it, when this goes out of scope.
+struct ScopedTempDir {
+  std::string path = TempDir();
+  ScopedTempDir() = default;
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+  ~ScopedTempDir();
+  operator const std::string&() const { return path; }
+};
+
 // Runs a shell command; returns its exit status (the shell's, 128+n for signals).
 int RunCommand(const std::string& command, std::string* output = nullptr);
 

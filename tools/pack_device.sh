@@ -22,7 +22,8 @@ if [ -d "$SHARED/assets" ]; then
         "$SHARED/assets/bunny-npm" "$SHARED/assets/cornell-box-original" .device/shared/assets/
   rm -rf .device/shared/assets/dining-room-bitterli/reference .device/shared/assets/*/reference
   mkdir -p .device/shared/assets/khronos
-  for m in Box Duck GlassHurricaneCandleHolder TransmissionRoughnessTest; do
+  for m in Box Duck GlassHurricaneCandleHolder TransmissionRoughnessTest DamagedHelmet \
+           TransmissionTest GlassVaseFlowers; do
     cp -r "$SHARED/assets/khronos/$m" .device/shared/assets/khronos/
   done
   cp "$SHARED/peer-scenes/"* .device/shared/peer-scenes/

@@ -15,9 +15,16 @@ using Json = nlohmann::ordered_json;
 double Mean(uint64_t total, uint64_t count) { return count ? double(total) / count : 0.0; }
 
 Json SceneJson(const Scene& scene) {
+  const SceneDesc& d = scene.desc;
+  // What textures occupy wherever the scene arrays live (device memory on the GPU): RGBA8
+  // mip pyramids, 4 bytes a texel, plus their small descriptors.
+  size_t textureBytes = d.texels.size() * sizeof(uint32_t) + d.textures.size() * sizeof(Texture) +
+                        d.textureRefs.size() * sizeof(TextureRef);
   return Json{{"triangles", scene.TriangleCount()},
               {"primitives", scene.PrimitiveCount()},
               {"lights", scene.lights.size()},
+              {"textures", d.textures.size()},
+              {"texture_bytes", textureBytes},
               {"effects", SceneEffectNames(scene)}};
 }
 

@@ -21,7 +21,6 @@ struct SurfaceInteraction {
   vec3 ng;        // unit geometric normal, the side the shape calls front
   vec3 ns;        // unit shading normal (interpolated), flipped onto ng's side
   vec2 uv;        // shape parameters: triangle (b1, b2), quad (s, t), sphere (phi, theta)
-  vec2 texUv;     // texture coordinates: interpolated TEXCOORD_0 when present, else uv
   uint32_t material;
   int32_t light;  // emitting primitive's light index, or -1
 };

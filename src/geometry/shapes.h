@@ -9,6 +9,7 @@
 #include "src/geometry/aabb.h"
 #include "src/geometry/interaction.h"
 #include "src/geometry/triangle_mt.h"
+#include "src/materials/alpha.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -182,9 +183,9 @@ PT_HDI bool IntersectSphere(const Sphere& sph, const Ray& ray, float tMax, float
 
 // ---- Dispatch over PrimRef ----
 
-PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
-                          const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
-  PrimRef ref = s.prims[primIndex];
+// The geometric test alone.
+PT_HDI bool IntersectShape(const SceneView& s, PrimRef ref, const Ray& ray,
+                           const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
   switch (ref.Type()) {
     case ShapeType::kTriangle:
       if (s.triangleTest != 0)  // --tri-test mt, for the robustness study only
@@ -198,6 +199,16 @@ PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray
     default:
       return false;
   }
+}
+
+// Every traversal's primitive test: the shape, then, for primitives flagged kHitTestBit only,
+// the material's verdict on the hit (alpha, back-face culling; src/materials/alpha.h). On a
+// rejected hit *tHit and *uv may hold the rejected values; the caller must not use them.
+PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
+                          const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
+  PrimRef ref = s.prims[primIndex];
+  if (!IntersectShape(s, ref, ray, rd, tMax, tHit, uv)) return false;
+  return !ref.NeedsHitTest() || AcceptHit(s, ref, ray, *uv);
 }
 
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray, float tMax,
@@ -277,14 +288,7 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
       detail::SphereSurface(s.spheres[ref.Index()], ray, hit.t, &si);
       break;
   }
-  si.texUv = si.uv;
-  if (ref.Type() == ShapeType::kTriangle && s.triangleUvs != nullptr) {
-    // TEXCOORD_0 interpolated (zeros for triangles of meshes without coordinates).
-    const TriangleUvs& t = s.triangleUvs[ref.Index()];
-    float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.0f - b1 - b2;
-    si.texUv = b0 * t.uv0 + b1 * t.uv1 + b2 * t.uv2;
-  }
-  return si;
+  return si;  // texture coordinates: src/materials/surface_attributes.h
 }
 
 // ---- Bounds (conservative: rounding of computed corners is padded outwards) ----

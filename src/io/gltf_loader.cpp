@@ -2,11 +2,14 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <type_traits>
+
+#include "src/io/gltf_material.h"
 
 namespace pt {
 namespace {
@@ -188,6 +191,34 @@ std::vector<vec2> ReadVec2s(const tinygltf::Model& model, int index) {
   return out;
 }
 
+// TANGENT: four floats (xyz and the bitangent sign w).
+std::vector<vec4> ReadTangents(const tinygltf::Model& model, int index) {
+  std::vector<double> raw = ReadAccessor(model, index, 4);
+  std::vector<vec4> out(raw.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = vec4(float(raw[4 * i]), float(raw[4 * i + 1]), float(raw[4 * i + 2]), float(raw[4 * i + 3]));
+  return out;
+}
+
+// COLOR_0: VEC3 or VEC4 of float or normalized unsigned byte/short, linear; RGB gets alpha 1.
+// Components are clamped to [0, 1] (a float colour may stray; it scales a reflectance).
+std::vector<vec4> ReadColors(const tinygltf::Model& model, int index) {
+  int components = 4;
+  if (index >= 0 && size_t(index) < model.accessors.size() &&
+      model.accessors[index].type == TINYGLTF_TYPE_VEC3) {
+    components = 3;
+  }
+  std::vector<double> raw = ReadAccessor(model, index, components);
+  std::vector<vec4> out(raw.size() / components);
+  for (size_t i = 0; i < out.size(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      double v = c < components ? raw[i * components + c] : 1.0;
+      out[i][c] = float(std::isnan(v) ? 1.0 : std::clamp(v, 0.0, 1.0));
+    }
+  }
+  return out;
+}
+
 // Vertex indices of the primitive's triangles, three per triangle, in glTF winding.
 std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygltf::Primitive& p,
                                       size_t vertexCount) {
@@ -296,34 +327,56 @@ class GltfWalker {
     auto position = p.attributes.find("POSITION");
     if (position == p.attributes.end()) Malformed("a primitive has no POSITION attribute");
     std::vector<vec3> positions = ReadVec3s(model_, position->second);
-    std::vector<vec3> normals = Attribute(p, "NORMAL", positions.size(), ReadVec3s);
-    std::vector<vec2> uvs = Attribute(p, "TEXCOORD_0", positions.size(), ReadVec2s);
+    size_t n = positions.size();
+    std::vector<vec3> normals = Attribute(p, "NORMAL", n, ReadVec3s);
     uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(p.material);
-    if (uvs.empty() && !sink_.HasOverride() && materials_.Textured(p.material)) {
-      if (!warnedUvs_) {
-        sink_.Warn(materials_.DisplayName(p.material) + ": its texture is read at (0, 0) on a "
-                   "primitive without TEXCOORD_0");
+    // Only what the material reads is kept: a scene pays for the per-vertex data it uses.
+    GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(p.material);
+    std::vector<vec2> uvs[2];
+    for (int set = 0; set < 2; ++set) {
+      if (!needs.uv[set]) continue;
+      std::string name = "TEXCOORD_" + std::to_string(set);
+      uvs[set] = Attribute(p, name.c_str(), n, ReadVec2s);
+      if (uvs[set].empty()) {
+        materials_.Note("textures read at (0, 0) on primitives without " + name, p.material);
+        uvs[set].assign(n, vec2(0.0f));  // explicit zeros, not the barycentrics
       }
-      warnedUvs_ = true;
-      uvs.assign(positions.size(), vec2(0.0f));  // explicit zeros, not the barycentrics
     }
-    std::vector<uint32_t> tri = TriangleIndices(model_, p, positions.size());
+    std::vector<vec4> tangents, colors;
+    if (needs.tangents) tangents = Attribute(p, "TANGENT", n, ReadTangents);
+    if (needs.colors) colors = Attribute(p, "COLOR_0", n, ReadColors);
+    std::vector<uint32_t> tri = TriangleIndices(model_, p, n);
     for (size_t t = 0; t + 2 < tri.size(); t += 3) {
-      uint32_t i0 = tri[t], i1 = tri[t + 1], i2 = tri[t + 2];
-      vec3 pos[3] = {positions[i0], positions[i1], positions[i2]};
-      vec3 nor[3];
-      vec2 uv[3];
-      if (!normals.empty()) nor[0] = normals[i0], nor[1] = normals[i1], nor[2] = normals[i2];
-      if (!uvs.empty()) uv[0] = uvs[i0], uv[1] = uvs[i1], uv[2] = uvs[i2];
-      sink_.Add(pos, normals.empty() ? nullptr : nor, material, uvs.empty() ? nullptr : uv);
+      uint32_t idx[3] = {tri[t], tri[t + 1], tri[t + 2]};
+      vec3 pos[3], nor[3];
+      vec2 uv[2][3];
+      vec4 tan[3], col[3];
+      VertexAttributes a;
+      for (int k = 0; k < 3; ++k) {
+        pos[k] = positions[idx[k]];
+        if (!normals.empty()) nor[k] = normals[idx[k]];
+        for (int set = 0; set < 2; ++set)
+          if (!uvs[set].empty()) uv[set][k] = uvs[set][idx[k]];
+        if (!tangents.empty()) tan[k] = tangents[idx[k]];
+        if (!colors.empty()) col[k] = colors[idx[k]];
+      }
+      if (!normals.empty()) a.normals = nor;
+      if (!uvs[0].empty()) a.uvs = uv[0];
+      if (!uvs[1].empty()) a.uvs1 = uv[1];
+      if (!tangents.empty()) a.tangents = tan;
+      if (!colors.empty()) a.colors = col;
+      sink_.Add(pos, a, material);
     }
   }
 
+ public:
+  void Finish() { materials_.Finish(); }
+
+ private:
   const tinygltf::Model& model_;
   MeshSink& sink_;
   GltfMaterialTable materials_;
   bool warnedMode_ = false;
-  bool warnedUvs_ = false;
 };
 
 std::vector<int> RootNodes(const tinygltf::Model& model) {
@@ -353,6 +406,7 @@ void LoadGltfMesh(const std::string& path, MeshSink& sink) {
   tinygltf::Model model = ReadModel(path, sink, images);
   GltfWalker walker(model, images, sink);
   for (int root : RootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
+  walker.Finish();
 }
 
 }  // namespace pt

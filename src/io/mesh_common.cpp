@@ -4,6 +4,9 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "src/materials/texture.h"
+#include "src/materials/texture_pyramid.h"
+
 namespace pt {
 
 std::string OneLine(std::string text) {
@@ -40,7 +43,33 @@ void MeshSink::SetTransform(const glm::dmat4& toWorld) {
   normalMatrix_ = glm::transpose(glm::inverse(glm::dmat3(toWorld)));
 }
 
-bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs) {
+namespace {
+
+// Appends value (or T{} / fill when null) to an optional per-triangle array: it stays empty
+// until the first triangle with data, which backfills the triangles before it.
+template <typename T>
+void AppendOptional(std::vector<T>& all, size_t triangle, const T* value, T fill = T{}) {
+  if (value) {
+    all.resize(triangle, fill);
+    all.push_back(*value);
+  } else if (!all.empty()) {
+    all.push_back(fill);
+  }
+}
+
+// Three texture coordinates with non-finite ones (which would poison lookups) as zeros.
+TriangleUvs FiniteUvs(const vec2* uvs) {
+  vec2 uv[3];
+  for (int i = 0; i < 3; ++i) {
+    bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
+    uv[i] = finite ? uvs[i] : vec2(0.0f);
+  }
+  return TriangleUvs{uv[0], uv[1], uv[2]};
+}
+
+}  // namespace
+
+bool MeshSink::Add(const vec3 p[3], const VertexAttributes& a, uint32_t material) {
   vec3 w[3];
   for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
   if (IsDegenerateTriangle(w[0], w[1], w[2])) {
@@ -48,29 +77,41 @@ bool MeshSink::Add(const vec3 p[3], const vec3* normals, uint32_t material, cons
     return false;
   }
   TriangleNormals tn;  // zero vectors: shading falls back to the geometric normal
-  if (normals) {
+  if (a.normals) {
     vec3 n[3];
     bool valid = true;
     for (int i = 0; i < 3; ++i) {
-      glm::dvec3 d = normalMatrix_ * glm::dvec3(normals[i]);
+      glm::dvec3 d = normalMatrix_ * glm::dvec3(a.normals[i]);
       double len = glm::length(d);
       valid = valid && len > 0.0 && std::isfinite(len);
       n[i] = valid ? vec3(d / len) : vec3(0.0f);
     }
     if (valid) tn = TriangleNormals{n[0], n[1], n[2]};
   }
-  std::vector<TriangleUvs>& allUvs = scene_.triangleUvs;
-  if (uvs) {
-    allUvs.resize(scene_.triangles.size());  // the first textured triangle: zeros before it
-    vec2 uv[3];
+  size_t index = scene_.triangles.size();
+  TriangleUvs uv0, uv1;
+  if (a.uvs) uv0 = FiniteUvs(a.uvs);
+  if (a.uvs1) uv1 = FiniteUvs(a.uvs1);
+  AppendOptional(scene_.triangleUvs, index, a.uvs ? &uv0 : nullptr);
+  AppendOptional(scene_.triangleUvs1, index, a.uvs1 ? &uv1 : nullptr);
+  TriangleTangents tt;
+  if (a.tangents) {
+    // Tangents lie in the surface: they map as directions; a mirroring transform flips the
+    // bitangent's handedness relative to the transformed normal.
+    double handedness = glm::determinant(glm::dmat3(toWorld_)) < 0.0 ? -1.0 : 1.0;
+    vec4* out[3] = {&tt.t0, &tt.t1, &tt.t2};
     for (int i = 0; i < 3; ++i) {
-      bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
-      uv[i] = finite ? uvs[i] : vec2(0.0f);  // a NaN coordinate would poison the lookup
+      glm::dvec3 d = glm::dmat3(toWorld_) * glm::dvec3(vec3(a.tangents[i]));
+      double len = glm::length(d);
+      vec3 t = len > 0.0 && std::isfinite(len) ? vec3(d / len) : vec3(0.0f);
+      *out[i] = vec4(t, float(handedness) * (a.tangents[i].w < 0.0f ? -1.0f : 1.0f));
     }
-    allUvs.push_back(TriangleUvs{uv[0], uv[1], uv[2]});
-  } else if (!allUvs.empty()) {
-    allUvs.push_back(TriangleUvs{});
   }
+  AppendOptional(scene_.triangleTangents, index, a.tangents ? &tt : nullptr);
+  TriangleColors tc;
+  if (a.colors) tc = TriangleColors{a.colors[0], a.colors[1], a.colors[2]};
+  const TriangleColors white{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
+  AppendOptional(scene_.triangleColors, index, a.colors ? &tc : nullptr, white);
   scene_.triangles.push_back(Triangle{w[0], w[1], w[2]});
   scene_.triangleNormals.push_back(tn);
   scene_.triangleMaterials.push_back(HasOverride() ? Override() : material);
@@ -84,12 +125,13 @@ uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name
 }
 
 int32_t MeshSink::AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS, TextureWrap wrapT,
-                             const std::vector<vec3>& texels) {
-  // Lookups index texels with int32 (row * width + column) from a uint32 offset.
+                             bool srgb, const std::vector<uint32_t>& texels) {
+  // Lookups index a level's texels with int32 (row * width + column) from a uint32 offset.
   constexpr uint64_t kMaxTexels = uint64_t(INT32_MAX);
   uint64_t count = uint64_t(width) * height;
+  uint64_t total = count > 0 ? PyramidTexelCount(width, height, nullptr) : 0;
   if (width == 0 || height == 0 || count != texels.size() || count > kMaxTexels ||
-      scene_.texels.size() + count > uint64_t(UINT32_MAX)) {
+      scene_.texels.size() + total > uint64_t(UINT32_MAX)) {
     throw std::runtime_error("texture of " + std::to_string(width) + " x " +
                              std::to_string(height) + " texels is empty or too large");
   }
@@ -99,9 +141,16 @@ int32_t MeshSink::AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS,
   t.offset = uint32_t(scene_.texels.size());
   t.wrapS = wrapS;
   t.wrapT = wrapT;
-  scene_.texels.insert(scene_.texels.end(), texels.begin(), texels.end());
+  t.srgb = srgb ? 1u : 0u;
+  std::vector<uint32_t> pyramid = BuildTexturePyramid(width, height, texels, srgb, &t.levels);
+  scene_.texels.insert(scene_.texels.end(), pyramid.begin(), pyramid.end());
   scene_.textures.push_back(t);
   return int32_t(scene_.textures.size() - 1);
+}
+
+int32_t MeshSink::AddTextureRef(const TextureRef& ref) {
+  scene_.textureRefs.push_back(ref);
+  return int32_t(scene_.textureRefs.size() - 1);
 }
 
 int32_t MeshSink::AddTextureView(int32_t texture, TextureWrap wrapS, TextureWrap wrapT) {

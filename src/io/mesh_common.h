@@ -16,6 +16,15 @@ bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2);
 // A library's multi-line message as one line (newlines become "; ").
 std::string OneLine(std::string text);
 
+// Optional per-vertex data of one triangle: three values each, or null when the mesh lacks it.
+struct VertexAttributes {
+  const vec3* normals = nullptr;
+  const vec2* uvs = nullptr;       // TEXCOORD_0
+  const vec2* uvs1 = nullptr;      // TEXCOORD_1
+  const vec4* tangents = nullptr;  // xyz and the bitangent sign w
+  const vec4* colors = nullptr;    // linear RGBA
+};
+
 // Receives one mesh file's triangles. Positions are transformed in double precision by the
 // current transform (node transforms composed with the object's); normals by its inverse
 // transpose.
@@ -32,16 +41,25 @@ class MeshSink {
 
   // toWorld maps the mesh's coordinates to world space.
   void SetTransform(const glm::dmat4& toWorld);
-  // normals: three vertex normals, or null; uvs: three texture coordinates, or null. Keeps
-  // SceneDesc::triangleUvs parallel to the triangles once any triangle has coordinates
-  // (earlier and later triangles without them get zeros). Returns false when skipped.
-  bool Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs = nullptr);
+  // Keeps each optional per-triangle array of SceneDesc (UVs, second UVs, tangents, colours)
+  // parallel to the triangles once any triangle has that data (earlier and later triangles
+  // without it get zeros; colours white). Positions and tangents are transformed by the
+  // current transform, normals by its inverse transpose. Returns false when skipped.
+  bool Add(const vec3 p[3], const VertexAttributes& attributes, uint32_t material);
+  bool Add(const vec3 p[3], const vec3* normals, uint32_t material, const vec2* uvs = nullptr) {
+    VertexAttributes a;
+    a.normals = normals;
+    a.uvs = uvs;
+    return Add(p, a, material);
+  }
 
   uint32_t AddMaterial(const Material& material, const std::string& name);
-  // Appends a texture's linear RGB texels (width * height, rows top to bottom); returns its index.
-  // Throws std::runtime_error when the scene's texel storage would overflow.
+  // Appends a texture: level 0's packed RGBA8 texels (width * height, rows top to bottom, RGB
+  // sRGB-encoded when srgb) and the mip levels built from them; returns its index. Throws
+  // std::runtime_error when the scene's texel storage would overflow.
   int32_t AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS, TextureWrap wrapT,
-                     const std::vector<vec3>& texels);
+                     bool srgb, const std::vector<uint32_t>& texels);
+  int32_t AddTextureRef(const TextureRef& ref);
   const Texture& TextureAt(int32_t texture) const { return scene_.textures.at(size_t(texture)); }
   // A new texture sharing the texels of an existing one, with other wrap modes.
   int32_t AddTextureView(int32_t texture, TextureWrap wrapS, TextureWrap wrapT);

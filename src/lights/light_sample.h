@@ -4,6 +4,7 @@
 #pragma once
 
 #include "src/core/sampling.h"
+#include "src/materials/emission.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -28,9 +29,10 @@ PT_HDI float TriangleArea(const Triangle& t) {
 PT_HDI float SphereArea(const Sphere& s) { return 4.0f * kPi * s.radius * s.radius; }
 
 // Radiance leaving an emissive surface with geometric normal ng towards wo (world space):
-// emission is one-sided unless the material says two_sided.
+// emission is one-sided unless the material says two_sided. glTF materials pass their
+// resolved emission (factor x texture x strength) in m.radiance.
 PT_HDI vec3 EmittedRadiance(const Material& m, vec3 ng, vec3 wo) {
-  if (m.type != MaterialType::kEmissive) return vec3(0.0f);
+  if (m.type != MaterialType::kEmissive && m.type != MaterialType::kGltfPbr) return vec3(0.0f);
   if (!m.twoSided && glm::dot(ng, wo) <= 0.0f) return vec3(0.0f);
   return m.radiance;
 }
@@ -129,15 +131,18 @@ PT_HDI float AreaLightPdf(const SceneView& s, const Light& light, vec3 refP, vec
   return 0.0f;
 }
 
-// Picks a point on an area light's shape: *p, unit *n (the shape's front) and *solidAnglePdf.
+// Picks a point on an area light's shape: *p, unit *n (the shape's front), its shape
+// parameters *param (triangle (b1, b2), quad (s, t); 0 on spheres) and *solidAnglePdf.
 PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, vec2 u, vec3* p,
-                            vec3* n, float* solidAnglePdf) {
+                            vec3* n, vec2* param, float* solidAnglePdf) {
   const PrimRef& prim = s.prims[light.prim];
+  *param = vec2(0.0f);
   switch (prim.Type()) {
     case ShapeType::kQuad: {
       const Quad& q = s.quads[prim.Index()];
       *p = q.origin + u.x * q.u + u.y * q.v;
       *n = glm::normalize(glm::cross(q.u, q.v));
+      *param = u;
       break;
     }
     case ShapeType::kTriangle: {
@@ -145,6 +150,7 @@ PT_HDI bool SampleAreaLight(const SceneView& s, const Light& light, vec3 refP, v
       vec2 b = SampleUniformTriangle(u);
       *p = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
       *n = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+      *param = vec2(b.y, 1.0f - b.x - b.y);  // weights of p1 and p2
       break;
     }
     case ShapeType::kSphere: {
@@ -182,10 +188,11 @@ PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
   switch (light.type) {
     case LightType::kArea: {
       vec3 p, n;
+      vec2 param;
       float pdf;
-      if (!SampleAreaLight(s, light, refP, u, &p, &n, &pdf)) return false;
+      if (!SampleAreaLight(s, light, refP, u, &p, &n, &param, &pdf)) return false;
       out->wi = glm::normalize(p - refP);
-      out->L = light.radiance;
+      out->L = AreaLightRadiance(s, light, param, p, n);
       out->pdf = pmf * pdf;
       out->pLight = p;
       out->nLight = n;

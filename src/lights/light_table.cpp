@@ -6,6 +6,36 @@ namespace pt {
 
 namespace {
 
+// Whether a material emits: emissive, or glTF with an emissive factor.
+bool Emits(const Material& m) {
+  return (m.type == MaterialType::kEmissive || m.type == MaterialType::kGltfPbr) &&
+         !IsBlack(m.radiance);
+}
+
+// Mean luminance of a glTF emissive texture over a primitive (1 without one), which scales
+// the light's power and so the probability of choosing it: 16 stratified points, each read at
+// the mip level whose footprint is a sixteenth of the primitive, so the mean covers its area.
+// Next-event estimation reads the texture at the sampled point; this estimate only shapes the
+// choice (a primitive estimated dark is no light, and BSDF sampling alone finds it).
+double EmissionScale(const SceneView& view, const PrimRef& prim, double area) {
+  const Material& m = view.materials[prim.material];
+  if (m.type != MaterialType::kGltfPbr || m.emissiveTexture < 0) return 1.0;
+  constexpr int kGrid = 4;
+  float width = float(std::sqrt(area / (kGrid * kGrid)));
+  double sum = 0.0;
+  for (int i = 0; i < kGrid * kGrid; ++i) {
+    vec2 u((float(i % kGrid) + 0.5f) / kGrid, (float(i / kGrid) + 0.5f) / kGrid);
+    vec2 param = u;  // quads: (s, t)
+    if (prim.Type() == ShapeType::kTriangle) {
+      vec2 b = SampleUniformTriangle(u);
+      param = vec2(b.y, 1.0f - b.x - b.y);
+    }
+    TexCoords tc = TexCoordsAt(view, prim, param, width);
+    sum += double(Luminance(vec3(SampleTextureRef(view, m.emissiveTexture, tc))));
+  }
+  return sum / (kGrid * kGrid);
+}
+
 double PrimArea(const SceneDesc& desc, const PrimRef& prim) {
   switch (prim.Type()) {
     case ShapeType::kQuad: return QuadArea(desc.quads[prim.Index()]);
@@ -58,11 +88,15 @@ void BuildLightTable(Scene& scene) {
   const SceneDesc& desc = scene.desc;
   scene.lights.clear();
   scene.backgroundLight = -1;
+  SceneView view = HostSceneView(scene);
+  std::vector<double> emissionScale;  // per area light, for its power
   for (size_t i = 0; i < scene.prims.size(); ++i) {
     PrimRef& prim = scene.prims[i];
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
-    if (m.type != MaterialType::kEmissive || IsBlack(m.radiance)) continue;
+    if (!Emits(m)) continue;
+    double scale = EmissionScale(view, prim, PrimArea(desc, prim));
+    if (!(scale > 0.0)) continue;  // dark where sampled: left to BSDF sampling
     Light light;
     light.type = LightType::kArea;
     light.prim = uint32_t(i);
@@ -70,6 +104,7 @@ void BuildLightTable(Scene& scene) {
     light.twoSided = m.twoSided;
     prim.light = int32_t(scene.lights.size());
     scene.lights.push_back(light);
+    emissionScale.push_back(scale);
   }
   for (const PointLightDesc& point : desc.pointLights) {
     Light light;
@@ -87,7 +122,10 @@ void BuildLightTable(Scene& scene) {
   }
   std::vector<double> power;
   power.reserve(scene.lights.size());
-  for (const Light& light : scene.lights) power.push_back(LightPower(scene, light));
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    double scale = i < emissionScale.size() ? emissionScale[i] : 1.0;  // area lights come first
+    power.push_back(LightPower(scene, scene.lights[i]) * scale);
+  }
   FillDistribution(power, scene);
 }
 

@@ -19,6 +19,9 @@ struct BsdfSample {
   bool isDelta = false;
   bool isTransmission = false;
   float eta = 1.0f;  // relative index crossed (pbrt's etap): 1 for reflection
+  // A thin wall's transmission: crosses the surface but enters no medium (the path's medium
+  // stays what it was).
+  bool passesThrough = false;
 };
 
 PT_HDI float AbsCosTheta(vec3 w) { return fabsf(w.z); }

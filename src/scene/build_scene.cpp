@@ -12,10 +12,16 @@
 namespace pt {
 namespace {
 
+// Whether hits on a material's primitives need its verdict (src/materials/alpha.h).
+bool NeedsHitTest(const Material& m) {
+  return (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend | kMaterialCullBack)) != 0;
+}
+
 // Every shape as an unordered PrimRef with its bounds.
 void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vector<Aabb>& bounds) {
   auto add = [&](ShapeType type, uint32_t index, uint32_t material, const Aabb& box) {
-    prims.push_back(PrimRef{PrimRef::Pack(type, index), material, -1});
+    bool test = material < d.materials.size() && NeedsHitTest(d.materials[material]);
+    prims.push_back(PrimRef{PrimRef::Pack(type, index, test), material, -1});
     bounds.push_back(box);
   };
   for (uint32_t i = 0; i < d.triangles.size(); ++i)
@@ -36,6 +42,7 @@ Camera MakeCamera(const CameraDesc& desc, int width, int height) {
   c.up = glm::cross(c.right, c.forward);
   c.tanHalfFovY = std::tan(glm::radians(desc.fovY) * 0.5f);
   c.aspect = float(width) / float(height);
+  c.pixelSpread = 2.0f * c.tanHalfFovY / float(height);
   c.apertureRadius = desc.apertureRadius;
   c.focusDistance = desc.focusDistance > 0.0f ? desc.focusDistance
                                               : glm::length(desc.lookAt - desc.position);

@@ -10,18 +10,27 @@ uint32_t AnalyzeEffects(const Scene& scene) {
   for (const PrimRef& prim : scene.prims)
     if (prim.material < used.size()) used[prim.material] = true;
   uint32_t e = 0;
-  const uint32_t kTypeEffect[] = {kEffectDiffuse, kEffectEmissive, kEffectConductor,
-                                  kEffectDielectric, kEffectPlastic};
+  const uint32_t kTypeEffect[] = {kEffectDiffuse,    kEffectEmissive, kEffectConductor,
+                                  kEffectDielectric, kEffectPlastic,  kEffectGltfPbr};
+  static_assert(sizeof(kTypeEffect) / sizeof(kTypeEffect[0]) == size_t(MaterialType::kCount));
   for (size_t i = 0; i < d.materials.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = d.materials[i];
     e |= kTypeEffect[size_t(m.type)];
-    if (m.type == MaterialType::kDielectric && MaxComponent(m.absorption) > 0.0f)
-      e |= kEffectAbsorption;
+    bool glass = m.type == MaterialType::kDielectric ||
+                 (m.type == MaterialType::kGltfPbr && m.transmission > 0.0f);
+    if (glass && MaxComponent(m.absorption) > 0.0f) e |= kEffectAbsorption;
     bool glossy = m.type == MaterialType::kConductor || m.type == MaterialType::kDielectric ||
-                  m.type == MaterialType::kPlastic;
+                  m.type == MaterialType::kPlastic || m.type == MaterialType::kGltfPbr;
     if (glossy && !IsSmooth(m)) e |= kEffectRoughLobes;
-    if (m.baseColorTexture >= 0) e |= kEffectTextures;
+    for (int32_t t : {m.baseColorTexture, m.metallicRoughnessTexture, m.normalTexture,
+                      m.emissiveTexture, m.transmissionTexture})
+      if (t >= 0) e |= kEffectTextures;
+    if (m.normalTexture >= 0) e |= kEffectNormalMaps;
+    if (m.emissiveTexture >= 0 && !IsBlack(m.radiance)) e |= kEffectEmissiveTextures;
+    if (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) e |= kEffectAlpha;
+    if (m.flags & kMaterialCullBack) e |= kEffectBackfaceCulling;
+    if (m.type == MaterialType::kGltfPbr && m.transmission > 0.0f) e |= kEffectTransmission;
   }
   for (const Light& l : scene.lights) {
     if (l.type == LightType::kArea) e |= kEffectAreaLights;
@@ -37,7 +46,9 @@ std::vector<std::string> EffectNames(uint32_t effects) {
   static const char* kNames[] = {"diffuse",      "emissive",        "conductor",
                                  "dielectric",   "plastic",         "absorption",
                                  "rough_lobes",  "textures",        "depth_of_field",
-                                 "area_lights",  "point_lights",    "background_light"};
+                                 "area_lights",  "point_lights",    "background_light",
+                                 "gltf_pbr",     "normal_maps",     "alpha",
+                                 "transmission", "emissive_textures", "backface_culling"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);
@@ -46,10 +57,13 @@ std::vector<std::string> EffectNames(uint32_t effects) {
 
 FeatureClass ChooseFeatureClass(uint32_t effects) {
   const uint32_t kDiffuseOnly = kEffectDiffuse | kEffectEmissive;
-  const uint32_t kNeedsGeneral = kEffectPlastic | kEffectRoughLobes | kEffectTextures;
+  // The glTF material, normal maps and emissive textures run only in the general variant;
+  // alpha and culling are the intersector's (no variant), transmission implies glTF.
+  const uint32_t kNeedsGeneral = kEffectPlastic | kEffectRoughLobes | kEffectTextures |
+                                 kEffectGltfPbr | kEffectNormalMaps | kEffectEmissiveTextures |
+                                 kEffectTransmission;
   uint32_t materials = effects & (kDiffuseOnly | kEffectConductor | kEffectDielectric |
-                                  kEffectPlastic | kEffectAbsorption | kEffectRoughLobes |
-                                  kEffectTextures);
+                                  kEffectAbsorption | kNeedsGeneral);
   if ((materials & ~kDiffuseOnly) == 0) return FeatureClass::kDiffuse;
   if ((materials & kNeedsGeneral) == 0) return FeatureClass::kSmooth;
   return FeatureClass::kGeneral;

@@ -23,6 +23,12 @@ enum Effect : uint32_t {
   kEffectAreaLights = 1u << 9,
   kEffectPointLights = 1u << 10,
   kEffectBackgroundLight = 1u << 11,
+  kEffectGltfPbr = 1u << 12,            // the glTF metallic-roughness material
+  kEffectNormalMaps = 1u << 13,
+  kEffectAlpha = 1u << 14,              // alpha MASK / BLEND (the intersector's hit test)
+  kEffectTransmission = 1u << 15,       // glTF transmission (thin walls or volumes)
+  kEffectEmissiveTextures = 1u << 16,
+  kEffectBackfaceCulling = 1u << 17,    // single-sided glTF materials (the intersector's)
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.
@@ -35,7 +41,7 @@ std::vector<std::string> EffectNames(uint32_t effects);
 enum class FeatureClass : uint32_t {
   kDiffuse = 0,  // Lambertian and emitters only: no Fresnel, microfacets, media or textures
   kSmooth = 1,   // adds smooth mirrors and glass (Fresnel, refraction, absorption)
-  kGeneral = 2,  // everything: rough lobes, plastic, textures
+  kGeneral = 2,  // everything: rough lobes, plastic, glTF materials, textures, normal maps
 };
 
 FeatureClass ChooseFeatureClass(uint32_t effects);

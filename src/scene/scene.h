@@ -53,6 +53,9 @@ struct SceneDesc {
   std::vector<Triangle> triangles;
   std::vector<TriangleNormals> triangleNormals;  // same length as triangles
   std::vector<TriangleUvs> triangleUvs;  // empty, or same length as triangles
+  std::vector<TriangleUvs> triangleUvs1;  // TEXCOORD_1: empty, or same length as triangles
+  std::vector<TriangleTangents> triangleTangents;  // empty, or same length as triangles
+  std::vector<TriangleColors> triangleColors;  // empty, or same length as triangles
   std::vector<uint32_t> triangleMaterials;
   std::vector<Quad> quads;
   std::vector<uint32_t> quadMaterials;
@@ -60,7 +63,8 @@ struct SceneDesc {
   std::vector<uint32_t> sphereMaterials;
   std::vector<PointLightDesc> pointLights;
   std::vector<Texture> textures;
-  std::vector<vec3> texels;  // linear RGB of every texture, back to back
+  std::vector<TextureRef> textureRefs;  // Material texture slots index these
+  std::vector<uint32_t> texels;  // RGBA8 pyramids of every texture, back to back
 
   std::vector<std::string> warnings;  // printed by the app (glTF fallbacks and the like)
   int skippedDegenerateTriangles = 0;

@@ -19,9 +19,21 @@ struct TriangleNormals {
   vec3 n0, n1, n2;
 };
 
-// Per-triangle texture coordinates (glTF TEXCOORD_0); only present when a mesh has them.
+// Per-triangle texture coordinates (glTF TEXCOORD_0, and TEXCOORD_1 in a second array when a
+// used texture reads it); only present when a mesh has them.
 struct TriangleUvs {
   vec2 uv0, uv1, uv2;
+};
+
+// Per-triangle glTF TANGENT (xyz, w = bitangent sign), world space; only kept for meshes whose
+// material has a normal texture and whose file gives tangents (else tangents come from UVs).
+struct TriangleTangents {
+  vec4 t0, t1, t2;
+};
+
+// Per-triangle glTF COLOR_0 (linear RGBA; RGB files get alpha 1); only present when a mesh has it.
+struct TriangleColors {
+  vec4 c0, c1, c2;
 };
 
 struct Quad {
@@ -35,13 +47,22 @@ struct Sphere {
 
 // One primitive of the BVH: which shape array and where in it. Stored in BVH leaf order.
 struct PrimRef {
-  uint32_t tagIndex;  // ShapeType in the top 2 bits, index into that shape's array below
+  // ShapeType in the top 2 bits, kHitTestBit, then the index into that shape's array.
+  uint32_t tagIndex;
   uint32_t material;  // index into the materials array
   int32_t light;      // index into the lights array when this primitive emits, else -1
 
+  // Set when the material may reject a geometric hit (alpha MASK/BLEND, single-sided culling):
+  // only such primitives pay for the test in IntersectPrim (src/materials/alpha.h).
+  static constexpr uint32_t kHitTestBit = 1u << 29;
+  static constexpr uint32_t kIndexMask = kHitTestBit - 1u;
+
   PT_HDI ShapeType Type() const { return ShapeType(tagIndex >> 30); }
-  PT_HDI uint32_t Index() const { return tagIndex & 0x3fffffffu; }
-  PT_HDI static uint32_t Pack(ShapeType t, uint32_t index) { return (uint32_t(t) << 30) | index; }
+  PT_HDI uint32_t Index() const { return tagIndex & kIndexMask; }
+  PT_HDI bool NeedsHitTest() const { return (tagIndex & kHitTestBit) != 0; }
+  PT_HDI static uint32_t Pack(ShapeType t, uint32_t index, bool hitTest = false) {
+    return (uint32_t(t) << 30) | (hitTest ? kHitTestBit : 0u) | index;
+  }
 };
 
 // ---- Materials ----
@@ -50,29 +71,63 @@ enum class MaterialType : uint32_t {
   kEmissive = 1,
   kConductor = 2,
   kDielectric = 3,
-  kPlastic = 4,  // parsed by the format; rendering it arrives with rough materials
-  kCount = 5,
+  kPlastic = 4,
+  kGltfPbr = 5,  // glTF metallic-roughness (+ transmission, volume, ior): src/materials/gltf_pbr.h
+  kCount = 6,
+};
+
+// Bits of Material::flags (glTF materials).
+enum MaterialFlag : uint32_t {
+  kMaterialAlphaMask = 1u << 0,   // alphaMode MASK: hits with alpha < alphaCutoff are ignored
+  kMaterialAlphaBlend = 1u << 1,  // alphaMode BLEND: a hit is kept with probability alpha
+  kMaterialCullBack = 1u << 2,    // doubleSided false on an opaque material: back faces culled
+  kMaterialThinWalled = 1u << 3,  // transmission without a volume: light passes the shell
 };
 
 struct Material {
   MaterialType type = MaterialType::kDiffuse;
-  uint32_t twoSided = 0;       // emissive only
-  vec3 albedo = vec3(0.0f);    // diffuse, conductor (F0), plastic base
-  vec3 radiance = vec3(0.0f);  // emissive
-  vec3 absorption = vec3(0.0f);  // dielectric: Beer-Lambert coefficient per unit length
-  float ior = 1.5f;            // dielectric, plastic
-  float roughness = 0.0f;      // conductor, dielectric, plastic (GGX alpha = roughness^2)
-  int32_t baseColorTexture = -1;  // index into the textures; multiplies albedo
+  uint32_t twoSided = 0;       // emissive, glTF (doubleSided): emits from both faces
+  vec3 albedo = vec3(0.0f);    // diffuse, conductor (F0), plastic base, glTF base colour
+  vec3 radiance = vec3(0.0f);  // emissive; glTF: emissiveFactor x emissive_strength
+  vec3 absorption = vec3(0.0f);  // dielectric, glTF volume: Beer-Lambert coefficient per length
+  float ior = 1.5f;            // dielectric, plastic, glTF
+  float roughness = 0.0f;      // conductor, dielectric, plastic, glTF (GGX alpha = roughness^2)
+  int32_t baseColorTexture = -1;  // index into the texture references; multiplies albedo
+  // glTF only.
+  uint32_t flags = 0;          // MaterialFlag bits
+  float metallic = 0.0f;
+  float transmission = 0.0f;   // KHR_materials_transmission factor
+  float alpha = 1.0f;          // baseColorFactor's alpha
+  float alphaCutoff = 0.5f;
+  float normalScale = 1.0f;
+  int32_t metallicRoughnessTexture = -1;  // texture references: B = metal, G = roughness
+  int32_t normalTexture = -1;
+  int32_t emissiveTexture = -1;
+  int32_t transmissionTexture = -1;       // R multiplies the transmission factor
 };
 
 // ---- Textures ----
 enum class TextureWrap : uint32_t { kRepeat = 0, kClampToEdge = 1, kMirroredRepeat = 2 };
 
-// An RGB image stored linear (sRGB decoded at load) in SceneView::texels from `offset`.
+// An RGBA8 image pyramid in SceneView::texels from `offset`: level 0 (width x height), then
+// each level half the previous (rounded down, at least 1), box filtered at load, to 1 x 1.
+// Texels are packed R | G << 8 | B << 16 | A << 24; RGB is sRGB-encoded when `srgb` is set
+// (decoded per tap, before filtering), linear otherwise; alpha is always linear.
 struct Texture {
   uint32_t width = 0, height = 0;
   uint32_t offset = 0;
   TextureWrap wrapS = TextureWrap::kRepeat, wrapT = TextureWrap::kRepeat;
+  uint32_t levels = 1;
+  uint32_t srgb = 0;
+};
+
+// One use of a texture by a material slot: which UV set and KHR_texture_transform's affine
+// map, uv' = (row0 . (u, v, 1), row1 . (u, v, 1)).
+struct TextureRef {
+  int32_t texture = -1;
+  uint32_t texCoord = 0;  // 0: TEXCOORD_0, 1: TEXCOORD_1
+  vec3 row0 = vec3(1.0f, 0.0f, 0.0f);
+  vec3 row1 = vec3(0.0f, 1.0f, 0.0f);
 };
 
 // ---- Lights ----
@@ -105,6 +160,7 @@ struct Camera {
   vec3 forward, right, up;  // orthonormal; up is the true up
   float tanHalfFovY;
   float aspect;             // width / height of the whole image
+  float pixelSpread;        // 2 tanHalfFovY / height: a pixel's angular width at the centre
   float apertureRadius;
   float focusDistance;      // to the plane perpendicular to forward
 };

@@ -10,21 +10,25 @@ namespace pt {
 // the stages read, and names `host`, the std::vector<Type> of a Scene `s` that holds it.
 // SceneView, HostSceneView, SceneBuffers and UploadScene all expand this list, so adding an
 // array is one line here (and its vector in the Scene). An empty array is a null pointer.
-#define PT_SCENE_ARRAYS(X)                                                                   \
-  /* Geometry, in BVH order where it matters. */                                            \
-  X(BvhNode, nodes, s.nodes)                                                                \
-  X(PrimRef, prims, s.prims)                                                                \
-  X(Triangle, triangles, s.desc.triangles)                                                  \
-  X(TriangleNormals, triangleNormals, s.desc.triangleNormals)                               \
-  X(TriangleUvs, triangleUvs, s.desc.triangleUvs) /* null when no mesh has UVs */           \
-  X(Quad, quads, s.desc.quads)                                                              \
-  X(Sphere, spheres, s.desc.spheres)                                                        \
-  /* Appearance and light. */                                                               \
-  X(Material, materials, s.desc.materials)                                                  \
-  X(Texture, textures, s.desc.textures)                                                     \
-  X(vec3, texels, s.desc.texels)                                                            \
-  X(Light, lights, s.lights)                                                                \
-  X(float, lightPmf, s.lightPmf) /* probability of choosing each light */                   \
+#define PT_SCENE_ARRAYS(X)                                                                 \
+  /* Geometry, in BVH order where it matters. */                                           \
+  X(BvhNode, nodes, s.nodes)                                                               \
+  X(PrimRef, prims, s.prims)                                                               \
+  X(Triangle, triangles, s.desc.triangles)                                                 \
+  X(TriangleNormals, triangleNormals, s.desc.triangleNormals)                              \
+  X(TriangleUvs, triangleUvs, s.desc.triangleUvs) /* null when no mesh has UVs */          \
+  X(TriangleUvs, triangleUvs1, s.desc.triangleUvs1) /* TEXCOORD_1: null unless read */     \
+  X(TriangleTangents, triangleTangents, s.desc.triangleTangents) /* null unless given */   \
+  X(TriangleColors, triangleColors, s.desc.triangleColors) /* null unless COLOR_0 */       \
+  X(Quad, quads, s.desc.quads)                                                             \
+  X(Sphere, spheres, s.desc.spheres)                                                       \
+  /* Appearance and light. */                                                              \
+  X(Material, materials, s.desc.materials)                                                 \
+  X(Texture, textures, s.desc.textures)                                                    \
+  X(TextureRef, textureRefs, s.desc.textureRefs) /* what materials' texture slots index */ \
+  X(uint32_t, texels, s.desc.texels) /* RGBA8 pyramids of every texture, back to back */   \
+  X(Light, lights, s.lights)                                                               \
+  X(float, lightPmf, s.lightPmf) /* probability of choosing each light */                  \
   X(float, lightCdf, s.lightCdf) /* lightCount + 1 entries, [0] = 0, last = 1 */
 
 struct SceneView {

@@ -1,20 +1,22 @@
 // The BSDF calls of the shade stage, per feature class. The diffuse variant calls the
 // Lambertian lobe directly and the smooth variant adds only the delta lobes, so their kernels
-// contain no microfacet, plastic or texture code at all; the general variant dispatches over
-// every material. Each variant computes exactly what the general one does for the materials
+// contain no microfacet, plastic, glTF or texture code at all; the general variant dispatches
+// over every material. Each variant computes exactly what the general one does for the materials
 // it admits (same functions, same order), so images are bit-identical on the CPU.
 #pragma once
 
 #include "src/materials/bsdf.h"
-#include "src/materials/texture.h"
+#include "src/materials/resolve.h"
 #include "src/scene/effects.h"
 
 namespace pt {
 
+// The material at the hit; the general variant applies textures (and normal maps, which move
+// si->ns).
 template <FeatureClass C>
-PT_HDI Material MaterialAt(const SceneView& s, const SurfaceInteraction& si) {
-  if constexpr (C == FeatureClass::kGeneral) return ResolveMaterial(s, si);
-  else return s.materials[si.material];
+PT_HDI Material MaterialAt(const SceneView& s, PrimRef ref, SurfaceInteraction* si) {
+  if constexpr (C == FeatureClass::kGeneral) return ResolveMaterial(s, ref, si);
+  else return s.materials[si->material];
 }
 
 template <FeatureClass C>

@@ -63,6 +63,18 @@ PT_HDI bool GeometricallyConsistent(const SurfaceInteraction& si, float woDotNg,
   return geometricSameSide == shadingSameSide;
 }
 
+// Emission of a surface that also scatters (glTF emissive): MIS-weighted against light
+// sampling when the primitive is in the light table, in full when it is not (next-event
+// estimation cannot find it then).
+PT_HDI vec3 SurfaceEmission(const SceneView& scene, const IntegratorParams& params,
+                            const SurfaceInteraction& si, const Material& mat, const Ray& ray,
+                            uint32_t flags, float prevPdf) {
+  vec3 le = EmittedRadiance(mat, si.ng, -ray.d);
+  if (IsBlack(le) || si.light < 0) return le;
+  float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
+  return le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
+}
+
 // Ends the path, keeping what it gathered.
 PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radiance) {
   ps.radiance[id] = radiance;
@@ -111,7 +123,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
   uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
   if (bs.isDelta) f |= kFlagSpecular;
-  if (kHasMedia<C> && bs.isTransmission)
+  if (kHasMedia<C> && bs.isTransmission && !bs.passesThrough)
     f = WithMedium(f, glm::dot(wo, si.ng) > 0.0f ? int32_t(si.material) : -1);
   // Russian roulette: survivors carry the weight of those ended.
   if (int(depth) >= params.rrDepth) {
@@ -156,7 +168,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
   }
 
   SurfaceInteraction si = MakeInteraction(scene, ray, hit);
-  Material mat = MaterialAt<C>(scene, si);
+  Material mat = MaterialAt<C>(scene, scene.prims[hit.prim], &si);
   vec3 wo = -ray.d;
   if (params.featureBuffers && depth == 0)
     WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns, hit.t);
@@ -168,6 +180,10 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
     }
     TerminatePath(ps, id, flags, radiance);
     return;
+  }
+  if constexpr (C == FeatureClass::kGeneral) {
+    if (mat.type == MaterialType::kGltfPbr && params.Counts(depth))
+      radiance += beta * SurfaceEmission(scene, params, si, mat, ray, flags, prevPdf);
   }
   if (int(depth) >= params.maxDepth) {
     TerminatePath(ps, id, flags, radiance);
