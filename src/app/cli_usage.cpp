@@ -36,7 +36,13 @@ Backend and performance
   --max-paths N            paths in flight at once (default: the backend's); lower it when
                            the GPU runs out of memory
   --compact on|off|auto    stream compaction of finished paths (default auto)
-  --sort off|material|auto order live paths by material before shading (default auto)
+  --sort off|material|queues|auto
+                           shading order: as queued; ordered by material (one kernel); or
+                           ordered and one kernel per material type and texturing (queues);
+                           auto picks from the scene's materials (docs/sorting.md)
+  --sort-method auto|counting|radix|radix32
+                           how paths are ordered: counting sort, radix sort over the key
+                           bits, or over all 32 (default auto: counting)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --film float|double      film accumulation precision (default float)
   --tri-test watertight|mt triangle test (default watertight)
@@ -51,8 +57,6 @@ Long renders
   --progress-every SECONDS progress line interval when stderr is not a terminal (default 10)
   --quiet                  no progress bar or progress lines
   --help, --version
-
-Not built yet (refused): --sort queues.
 
 SIGINT, SIGTERM and SIGHUP stop the render after the current wave and write the image so far
 (an --hdr EXR then holds a resumable state); a second signal quits at once.

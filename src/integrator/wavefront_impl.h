@@ -27,6 +27,7 @@ template <typename Backend>
 void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.compact = o.compact;
   options_.sort = o.sort;
+  options_.sortMethod = o.sortMethod;
   options_.integrator = o.integrator;
   options_.lightPaths = o.lightPaths;
   options_.specialize = o.specialize;
@@ -37,14 +38,27 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.clampLuminance = o.clampLuminance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
-  sort_ = flags.sort;
   stats_.compactUsed = compact_;
-  stats_.sortUsed = sort_;
   params_ = MakeParams(scene_.desc.render, options_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(AnalyzeEffects(scene_))
                                       : FeatureClass::kGeneral;
   stats_.specialization = FeatureClassName(featureClass_);
+  ApplySortOptions();
   sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
+}
+
+// The shading order: auto's choice from the scene's materials, the keys, the ordering buffers.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::ApplySortOptions() {
+  shade_.SetScene(scene_, options_.sortMethod);
+  SortChoice choice = ChooseSortMode(options_.sort, shade_.Keys(), featureClass_);
+  sortMode_ = choice.mode;
+  bool ordering = sortMode_ != SortMode::kOff;
+  if (ordering && queue_.Size() > 0) shade_.EnsureOrdering(queue_.Size());
+  stats_.sortUsed = ordering;
+  stats_.sortMode = SortModeName(sortMode_);
+  stats_.sortMethod = ordering ? SortMethodName(shade_.Method()) : "";
+  stats_.sortReason = choice.reason;
 }
 
 // The Scene was edited: its arrays again, and what the options derive from it.
@@ -87,7 +101,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   shadowTMax_.Resize(n);
   flags_.Resize(n);
   queue_.Resize(n);
-  sortKeys_.Resize(n);
+  if (sortMode_ != SortMode::kOff) shade_.EnsureOrdering(n);
   hit_.Resize(n);
   // Feature buffers exist only when asked for: a render without them pays nothing.
   size_t features = params_.featureBuffers ? n : 0;
@@ -100,7 +114,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
                          featureNormal_.Data(),  featureDepth_.Data()};
   stats_.pathsInFlight = n;
-  stats_.pathStateBytesPerPath = kPathStateBytes + backend_.SortScratchBytesPerPath(sort_) +
+  stats_.pathStateBytesPerPath = kPathStateBytes + shade_.BytesPerPath() +
                                  (params_.featureBuffers ? kFeatureBytes : 0);
 }
 

@@ -1,5 +1,5 @@
-// Stage 2, intersect: the closest hit of each live path's ray through the BVH, and the key
-// (material hit) that the optional sort orders the queue by.
+// Stage 2, intersect: the closest hit of each live path's ray through the BVH, and the key the
+// optional shading order sorts the queue by (src/integrator/shade_order.h).
 #pragma once
 
 #include "src/geometry/traverse.h"
@@ -8,15 +8,25 @@
 
 namespace pt {
 
-// Misses sort after every material.
-PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const HitRecord& hit) {
-  return hit.prim == HitRecord::kNoHit ? scene.materialCount : scene.prims[hit.prim].material;
+// Where intersect writes sort keys: one per queue position, from the materials' keys (ranked
+// by shade queue); escaped paths take materialCount, finished ones materialCount + 1. Null
+// keys: no ordering this render.
+struct SortKeyOutput {
+  uint32_t* keys;
+  const uint32_t* materialKeys;
+};
+
+PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const uint32_t* materialKeys,
+                                const HitRecord& hit) {
+  return hit.prim == HitRecord::kNoHit ? scene.materialCount
+                                       : materialKeys[scene.prims[hit.prim].material];
 }
 
-PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t* sortKey,
-                          Counter* counters) {
+// Path id at queue position i.
+PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t i,
+                          SortKeyOutput sort, Counter* counters) {
   if (!IsAlive(ps.flags[id])) {  // only without compaction do dead paths stay queued
-    if (sortKey) *sortKey = scene.materialCount + 1;
+    if (sort.keys) sort.keys[i] = scene.materialCount + 1;
     return;
   }
   Ray ray{ps.rayOrigin[id], ps.rayDir[id]};
@@ -27,7 +37,7 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   TraversalCounters tc;
   IntersectClosest(scene, ray, kInfinity, &hit, &tc);
   ps.hit[id] = hit;
-  if (sortKey) *sortKey = MaterialSortKey(scene, hit);
+  if (sort.keys) sort.keys[i] = MaterialSortKey(scene, sort.materialKeys, hit);
   if (counters) {
     AddToCounter(&counters[kCounterNodesVisited], tc.nodes);
     AddToCounter(&counters[kCounterPrimsTested], tc.prims);
