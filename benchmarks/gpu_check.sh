@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench special gltf}"
+STEPS="${STEPS:-info tests sanitize bench special gltf sort}"
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -65,4 +65,10 @@ if [[ " $STEPS " == *" gltf "* ]]; then
   step "glTF materials: DamagedHelmet and TransmissionTest at 1080p, full material against legacy"
   python3 benchmarks/gltf_materials_bench.py --binary "$BIN/pathtracer" --backend cuda \
     --repeats "${REPEATS:-3}" --out "$OUT/gltf_materials"
+fi
+
+if [[ " $STEPS " == *" sort "* ]]; then
+  step "shading order (issue 11): scenes x compaction x --sort x --sort-method, medians of 5"
+  python3 benchmarks/sort_bench.py --binary "$BIN/pathtracer" --backend cuda \
+    --repeats "${REPEATS:-5}" --out "$OUT/sort"
 fi

@@ -5,8 +5,8 @@ Every material type the scene format has (diffuse, emissive, smooth and rough co
 smooth and rough dielectrics, plastics) on small tiles interleaved in screen space, so that
 neighbouring pixels, and the threads of one GPU warp, hit different materials; in front of
 them Khronos models for the glTF material, textured (DamagedHelmet: five 2048^2 textures,
-normal map, emission) and plain (TransmissionRoughnessTest's untextured rough glass spheres).
-JSON materials name no textures, so the textured members of the zoo are the glTF ones.
+normal map, emission; the Duck) and plain (the Box). JSON and OBJ materials name no textures
+(map_Kd is ignored), so the textured members of the zoo are the glTF ones.
 
   python3 benchmarks/make_material_zoo.py   # rewrites the scene file
 """
@@ -44,14 +44,16 @@ def tiles():
 
 
 def models():
+    # One helmet (its textures dominate load time), Ducks (one small texture), Boxes (plain).
     helmet = f"{KHRONOS}/DamagedHelmet/glTF-Binary/DamagedHelmet.glb"
-    spheres = f"{KHRONOS}/TransmissionRoughnessTest/glTF-Binary/TransmissionRoughnessTest.glb"
-    out = []
-    for k, x in enumerate([-6, -2, 2, 6]):
-        out.append({"type": "mesh", "file": helmet, "transform": {
-            "scale": [1.1, 1.1, 1.1], "rotate": [0, 15 * (k - 1.5), 0], "translate": [x, 1.8, 1.5]}})
-    out.append({"type": "mesh", "file": spheres, "transform": {
-        "scale": [0.5, 0.5, 0.5], "translate": [0, -2.5, 1.5]}})
+    duck = f"{KHRONOS}/Duck/glTF-Binary/Duck.glb"
+    box = f"{KHRONOS}/Box/glTF-Binary/Box.glb"
+    out = [{"type": "mesh", "file": helmet, "transform": {
+        "scale": [1.6, 1.6, 1.6], "translate": [0, 1.5, 1.5]}}]
+    for k, x in enumerate([-6, -3.5, 3.5, 6]):
+        out.append({"type": "mesh", "file": duck if k % 2 == 0 else box, "transform": {
+            "scale": [0.012, 0.012, 0.012] if k % 2 == 0 else [1.2, 1.2, 1.2],
+            "rotate": [0, 30 * k, 0], "translate": [x, -1.5 if k % 2 == 0 else -1, 1.5]}})
     return out
 
 
