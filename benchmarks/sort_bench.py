@@ -21,6 +21,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench import plot_bars  # noqa: E402
+
 SCENES = ["benchmarks/scenes/transmission_test.json", "benchmarks/scenes/damaged_helmet.json",
           "benchmarks/scenes/breakfast_room_materials.json", "benchmarks/scenes/material_zoo.json"]
 # (compact, sort, method): the fixed modes, every ordering method once (compaction on), and
@@ -117,31 +120,17 @@ def auto_table(rows):
 
 
 def write_chart(rows, path):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not available: no chart", file=sys.stderr)
-        return
-    scenes = sorted({r["scene"] for r in rows})
-    fig, axes = plt.subplots(1, len(scenes), figsize=(4.8 * len(scenes), 4.2), squeeze=False)
-    for ax, scene in zip(axes[0], scenes):
+    panels = []
+    for scene in sorted({r["scene"] for r in rows}):
         groups = {}
         for r in rows:
             if r["scene"] == scene:
                 groups.setdefault(f"c:{r['compact']}\n{label(r)}", []).append(r["msamples_per_s"])
         labels = sorted(groups)
         med = [statistics.median(groups[k]) for k in labels]
-        lo = [m - min(groups[k]) for m, k in zip(med, labels)]
-        hi = [max(groups[k]) - m for m, k in zip(med, labels)]
-        ax.bar(range(len(labels)), med, yerr=[lo, hi])
-        ax.set_xticks(range(len(labels)))
-        ax.set_xticklabels(labels, fontsize=6, rotation=60)
-        ax.set_title(os.path.basename(scene), fontsize=9)
-        ax.set_ylabel("M samples/s (median, min-max)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+        panels.append((scene, labels, med, [m - min(groups[k]) for m, k in zip(med, labels)],
+                       [max(groups[k]) - m for m, k in zip(med, labels)]))
+    plot_bars(panels, path)
 
 
 def main():
