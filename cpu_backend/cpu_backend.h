@@ -65,6 +65,8 @@ class CpuBackend {
 
   // The stages run on the host: scene arrays are read in place, never copied.
   static constexpr bool kHostMemory = true;
+  // Each thread runs its paths one by one: no warp divergence (--sort auto reads this).
+  static constexpr bool kLockstepLanes = false;
 
   explicit CpuBackend(int threads) : pool_(threads) {}
 

@@ -41,6 +41,7 @@ class CudaBackend {
   using Buffer = DeviceBuffer<T>;
 
   static constexpr bool kHostMemory = false;  // scene arrays are copied to the device
+  static constexpr bool kLockstepLanes = true;  // warps diverge (--sort auto reads this)
 
   CudaBackend();
   ~CudaBackend();

@@ -43,7 +43,9 @@ struct SortChoice {
   SortMode mode;
   std::string reason;
 };
-SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass featureClass);
+// lockstep: the backend runs neighbouring paths in lockstep (GPU warps), where divergence costs.
+SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass featureClass,
+                          bool lockstep = true);
 
 // Shade queues holding surface hits (every queue but the escaped one) the scene uses.
 uint32_t SurfaceQueuesUsed(const ShadeKeys& keys);

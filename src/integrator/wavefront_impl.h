@@ -51,7 +51,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
 template <typename Backend>
 void WavefrontIntegrator<Backend>::ApplySortOptions() {
   shade_.SetScene(scene_, options_.sortMethod);
-  SortChoice choice = ChooseSortMode(options_.sort, shade_.Keys(), featureClass_);
+  SortChoice choice =
+      ChooseSortMode(options_.sort, shade_.Keys(), featureClass_, Backend::kLockstepLanes);
   sortMode_ = choice.mode;
   bool ordering = sortMode_ != SortMode::kOff;
   if (ordering && queue_.Size() > 0) shade_.EnsureOrdering(queue_.Size());
