@@ -51,7 +51,8 @@ def write_markdown(rows, path):
     return "\n".join(lines)
 
 
-def write_chart(rows, path):
+def plot_bars(panels, path):
+    """One bar panel per (title, labels, medians, below, above), min-max error bars; PNG."""
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -59,26 +60,31 @@ def write_chart(rows, path):
     except ImportError:
         print("matplotlib not available: no chart", file=sys.stderr)
         return
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.8 * len(panels), 4.2), squeeze=False)
+    for ax, (title, labels, values, below, above) in zip(axes[0], panels):
+        ax.bar(range(len(values)), values, yerr=[below, above] if values else None)
+        ax.set_xticks(range(len(values)))
+        ax.set_xticklabels(labels, fontsize=6, rotation=60 if len(labels) > 6 else 0)
+        ax.set_title(title, fontsize=9)
+        ax.set_ylabel("M samples/s (median, min-max)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def write_chart(rows, path):
     med = summarize(rows, "msamples_per_s")
-    scenes = sorted({k[0] for k in med})
-    variants = sorted({k[1:] for k in med})
-    fig, axes = plt.subplots(1, len(scenes), figsize=(4.5 * len(scenes), 4), squeeze=False)
-    for ax, scene in zip(axes[0], scenes):
-        labels, values, errs = [], [], []
-        for v in variants:
+    panels = []
+    for scene in sorted({k[0] for k in med}):
+        labels, values, below, above = [], [], [], []
+        for v in sorted({k[1:] for k in med}):
             if (scene,) + v in med:
                 m, lo, hi, _ = med[(scene,) + v]
                 labels.append(f"{v[0]}\nc:{v[1]} s:{v[2]}")
                 values.append(m)
-                errs.append([[m - lo], [hi - m]])
-        ax.bar(range(len(values)), values,
-               yerr=[[e[0][0] for e in errs], [e[1][0] for e in errs]] if errs else None)
-        ax.set_xticks(range(len(values)))
-        ax.set_xticklabels(labels, fontsize=7)
-        ax.set_title(os.path.basename(scene), fontsize=9)
-        ax.set_ylabel("M samples/s (median, min-max)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+                below.append(m - lo)
+                above.append(hi - m)
+        panels.append((os.path.basename(scene), labels, values, below, above))
+    plot_bars(panels, path)
 
 
 def main():

@@ -10,7 +10,7 @@ BIN="$ROOT/.device/bin"
 export PT_SOURCE_DIR="$ROOT" PT_BINARY_DIR="$BIN" PT_SHARED_DIR="$ROOT/.device/shared"
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: point it at the carried copy.
 [ -e "$ROOT/../shared" ] || ln -s "$ROOT/.device/shared" "$ROOT/../shared"
-STEPS="${STEPS:-info tests sanitize bench special gltf}"  # also: env (environment lighting)
+STEPS="${STEPS:-info tests sanitize bench special gltf sort}"  # also: env, serve
 
 step() { echo; echo "=== $* ($(date +%T))"; }
 
@@ -93,4 +93,10 @@ if [[ " $STEPS " == *" serve "* ]]; then
   python3 benchmarks/serve_latency.py --pathtracer "$BIN/pathtracer" --backend cuda \
     --scene benchmarks/scenes/bunny_cornell.json --width 1920 --height 1080 --edits 30 \
     --seconds 5 --json "$OUT/serve_bunny_1920x1080.json"
+fi
+
+if [[ " $STEPS " == *" sort "* ]]; then
+  step "shading order (issue 11): scenes x compaction x --sort x --sort-method, medians of 5"
+  python3 benchmarks/sort_bench.py --binary "$BIN/pathtracer" --backend cuda \
+    --repeats "${REPEATS:-5}" --out "$OUT/sort"
 fi

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cpu_backend/thread_pool.h"
+#include "src/integrator/shade_order.h"
 #include "src/integrator/stage_id.h"
 
 namespace pt {
@@ -64,6 +65,8 @@ class CpuBackend {
 
   // The stages run on the host: scene arrays are read in place, never copied.
   static constexpr bool kHostMemory = true;
+  // Each thread runs its paths one by one: no warp divergence (--sort auto reads this).
+  static constexpr bool kLockstepLanes = false;
 
   explicit CpuBackend(int threads) : pool_(threads) {}
 
@@ -78,6 +81,15 @@ class CpuBackend {
       for (uint32_t i = begin; i < end; ++i) body(i);
     });
     AddTime(stage, t0);
+  }
+
+  // body(i) for i in [range[0], range[1]): a shade queue's kernel, its range found by an
+  // earlier stage (read here on the host; the CUDA backend reads it on the device).
+  template <typename F>
+  void ParallelForRange(Stage stage, uint32_t n, const uint32_t* range, const F& body) {
+    uint32_t begin = range[0], end = std::min(range[1], n);
+    if (begin >= end) return;
+    ParallelFor(stage, end - begin, [&body, begin](uint32_t i) { body(begin + i); });
   }
 
   // Keeps the queue entries for which keep(id) holds, in order; returns how many.
@@ -97,9 +109,11 @@ class CpuBackend {
     return count;
   }
 
-  // Stable sort of the queue by key (keys are per queue slot and are permuted alongside).
-  void SortByKey(Stage stage, uint32_t* keys, uint32_t* queue, uint32_t n);
-  size_t SortScratchBytesPerPath(bool sorting) const { return sorting ? 8 : 0; }
+  // Orders (key, value) pairs by key (shade_order.h): a stable counting sort, or std::sort of
+  // packed pairs for both radix methods (the host has no radix sort worth its name). Returns
+  // the scratch bytes an ordering of shape.n pairs holds.
+  size_t ReserveOrdering(const OrderShape& shape);
+  void OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a);
 
   void Synchronize() {}
   StageTimes Times() const { return times_; }
@@ -111,13 +125,14 @@ class CpuBackend {
  private:
   using Clock = std::chrono::steady_clock;
   void AddTime(Stage stage, Clock::time_point t0) {
-    StageTime(times_, stage) +=
-        std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    AddStageTime(times_, stage,
+                 std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
 
   ThreadPool pool_;
   StageTimes times_;
   std::vector<uint64_t> sortScratch_;
+  std::vector<uint32_t> keyCursor_;
 };
 
 }  // namespace pt

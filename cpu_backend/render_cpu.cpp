@@ -1,21 +1,43 @@
 // Entry point of the CPU backend: the generic wavefront integrator over CpuBackend.
+#include <algorithm>
 #include <fstream>
+#include <utility>
 
 #include "cpu_backend/cpu_backend.h"
 #include "src/integrator/backend_session.h"
 
 namespace pt {
 
-void CpuBackend::SortByKey(Stage stage, uint32_t* keys, uint32_t* queue, uint32_t n) {
+size_t CpuBackend::ReserveOrdering(const OrderShape& shape) {
+  bool counting = shape.method == SortMethod::kCounting;
+  keyCursor_.assign(counting ? shape.keyCount : 0, 0);
+  sortScratch_.resize(counting ? 0 : shape.n);
+  return keyCursor_.size() * sizeof(uint32_t) + sortScratch_.size() * sizeof(uint64_t);
+}
+
+void CpuBackend::OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a) {
   auto t0 = Clock::now();
-  // Pack (key, slot) into one word and sort those: stable by construction, no comparator
-  // indirection.
-  sortScratch_.resize(n);
-  for (uint32_t i = 0; i < n; ++i) sortScratch_[i] = (uint64_t(keys[i]) << 32) | queue[i];
-  std::sort(sortScratch_.begin(), sortScratch_.end());
-  for (uint32_t i = 0; i < n; ++i) {
-    keys[i] = uint32_t(sortScratch_[i] >> 32);
-    queue[i] = uint32_t(sortScratch_[i]);
+  uint32_t n = shape.n;
+  if (shape.method == SortMethod::kCounting) {
+    // Histogram, exclusive scan, scatter.
+    std::fill(keyCursor_.begin(), keyCursor_.end(), 0u);
+    for (uint32_t i = 0; i < n; ++i) ++keyCursor_[a.keys[i]];
+    uint32_t sum = 0;
+    for (uint32_t& c : keyCursor_) sum += std::exchange(c, sum);
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t p = keyCursor_[a.keys[i]]++;
+      a.keysOut[p] = a.keys[i];
+      a.valuesOut[p] = a.values[i];
+    }
+  } else {
+    // Pack (key, value) into one word and sort those: no comparator indirection.
+    sortScratch_.resize(n);
+    for (uint32_t i = 0; i < n; ++i) sortScratch_[i] = (uint64_t(a.keys[i]) << 32) | a.values[i];
+    std::sort(sortScratch_.begin(), sortScratch_.begin() + n);
+    for (uint32_t i = 0; i < n; ++i) {
+      a.keysOut[i] = uint32_t(sortScratch_[i] >> 32);
+      a.valuesOut[i] = uint32_t(sortScratch_[i]);
+    }
   }
   AddTime(stage, t0);
 }

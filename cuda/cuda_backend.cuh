@@ -1,18 +1,19 @@
 // The CUDA backend: device arrays, one kernel launch per stage running the very same stage
-// body as the CPU, and Thrust for the queue operations (compaction, sort by material).
+// body as the CPU, Thrust for compaction, CUB and two kernels of ours for the ordering by
+// material (render_cuda.cu).
 // Included by exactly one translation unit (render_cuda.cu): Thrust compiles slowly.
 #pragma once
 
 #include <thrust/count.h>
 #include <thrust/execution_policy.h>
 #include <thrust/partition.h>
-#include <thrust/sort.h>
 
 #include <string>
 #include <vector>
 
 #include "cuda/device_buffer.cuh"
 #include "cuda/thrust_allocator.cuh"
+#include "src/integrator/shade_order.h"
 #include "src/integrator/stage_id.h"
 
 namespace pt {
@@ -23,12 +24,24 @@ __global__ void ParallelForKernel(uint32_t n, F body) {
   if (i < n) body(i);
 }
 
+// A shade queue's kernel: its range [range[0], range[1]) was written on the device by an
+// earlier kernel, so the host launches over the bounce's path count and never waits; threads
+// past the range exit at once (as pbrt-v4's per-material work queues).
+template <typename F>
+__global__ void ParallelForRangeKernel(uint32_t n, const uint32_t* range, F body) {
+  uint32_t begin = range[0], end = min(range[1], n);
+  for (uint32_t i = begin + blockIdx.x * blockDim.x + threadIdx.x; i < end;
+       i += gridDim.x * blockDim.x)
+    body(i);
+}
+
 class CudaBackend {
  public:
   template <typename T>
   using Buffer = DeviceBuffer<T>;
 
   static constexpr bool kHostMemory = false;  // scene arrays are copied to the device
+  static constexpr bool kLockstepLanes = true;  // warps diverge (--sort auto reads this)
 
   // Makes `device` the calling thread's current device: the thread that makes the backend
   // must be the one that renders with it.
@@ -44,6 +57,16 @@ class CudaBackend {
     constexpr uint32_t kBlock = 128;
     BeginStage(stage);
     ParallelForKernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, body);
+    CudaCheck(cudaGetLastError(), "kernel launch");
+    EndStage(stage);
+  }
+
+  template <typename F>
+  void ParallelForRange(Stage stage, uint32_t n, const uint32_t* range, F body) {
+    if (n == 0) return;
+    constexpr uint32_t kBlock = 128;
+    BeginStage(stage);
+    ParallelForRangeKernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, range, body);
     CudaCheck(cudaGetLastError(), "kernel launch");
     EndStage(stage);
   }
@@ -66,14 +89,11 @@ class CudaBackend {
     return uint32_t(count);
   }
 
-  void SortByKey(Stage stage, uint32_t* keys, uint32_t* queue, uint32_t n) {
-    if (n == 0) return;
-    BeginStage(stage);
-    thrust::sort_by_key(thrust::cuda::par(allocator_).on(stream_), keys, keys + n, queue);
-    EndStage(stage);
-  }
-  // Radix sort of (key, value) pairs double-buffers both.
-  size_t SortScratchBytesPerPath(bool sorting) const { return sorting ? 8 : 0; }
+  // Orders (key, value) pairs by key (shade_order.h): counting sort (histogram, scan,
+  // scatter) or CUB's radix sort over the key bits (or all 32). ReserveOrdering sizes the
+  // scratch for shape.n pairs and returns its bytes.
+  size_t ReserveOrdering(const OrderShape& shape);
+  void OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a);
 
   void Synchronize();
   StageTimes Times() const { return times_; }
@@ -97,6 +117,8 @@ class CudaBackend {
   };
   std::vector<Timing> pending_;
   std::vector<cudaEvent_t> eventPool_;
+  DeviceBuffer<uint32_t> keyCounts_;  // counting sort: per key, then its cursor
+  DeviceBuffer<uint8_t> orderScratch_;  // CUB's temporary storage
   cudaEvent_t TakeEvent();
 };
 

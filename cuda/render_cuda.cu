@@ -1,9 +1,109 @@
 // Entry point of the CUDA backend: the generic wavefront integrator over CudaBackend. Only
 // launch plumbing lives here; the stage bodies are src/integrator/stages/.
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+
 #include "cuda/cuda_backend.cuh"
 #include "src/integrator/backend_session.h"
 
 namespace pt {
+
+namespace {
+
+constexpr uint32_t kOrderBlock = 256;
+constexpr uint32_t kHistogramBlocks = 1024;
+
+// Counting sort, pass 1: the count of every key, summed in shared memory per block first so
+// that global atomics are one per key per block.
+__global__ void KeyHistogramKernel(const uint32_t* keys, uint32_t n, uint32_t keyCount,
+                                   uint32_t* counts) {
+  extern __shared__ uint32_t local[];
+  for (uint32_t k = threadIdx.x; k < keyCount; k += blockDim.x) local[k] = 0;
+  __syncthreads();
+  for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x)
+    atomicAdd(&local[keys[i]], 1u);
+  __syncthreads();
+  for (uint32_t k = threadIdx.x; k < keyCount; k += blockDim.x)
+    if (local[k]) atomicAdd(&counts[k], local[k]);
+}
+
+// Counting sort, pass 3 (after an exclusive scan turned counts into cursors): each thread's
+// rank among its block's equal keys, each block's run of every key reserved with one global
+// atomic, then the scatter. The order among equal keys varies between runs; shading reads
+// only slots, so images do not.
+__global__ void KeyScatterKernel(OrderArrays a, uint32_t n, uint32_t keyCount,
+                                 uint32_t* cursor) {
+  extern __shared__ uint32_t shared[];
+  uint32_t* local = shared;
+  uint32_t* base = shared + keyCount;
+  for (uint32_t k = threadIdx.x; k < keyCount; k += blockDim.x) local[k] = 0;
+  __syncthreads();
+  uint32_t i = blockIdx.x * blockDim.x + threadIdx.x, key = 0, rank = 0;
+  if (i < n) {
+    key = a.keys[i];
+    rank = atomicAdd(&local[key], 1u);
+  }
+  __syncthreads();
+  for (uint32_t k = threadIdx.x; k < keyCount; k += blockDim.x)
+    if (local[k]) base[k] = atomicAdd(&cursor[k], local[k]);
+  __syncthreads();
+  if (i < n) {
+    uint32_t p = base[key] + rank;
+    a.keysOut[p] = key;
+    a.valuesOut[p] = a.values[i];
+  }
+}
+
+int EndBit(const OrderShape& shape) {
+  return shape.method == SortMethod::kRadixFullWidth ? 32 : int(shape.keyBits);
+}
+
+}  // namespace
+
+size_t CudaBackend::ReserveOrdering(const OrderShape& shape) {
+  size_t bytes = 0;
+  if (shape.method == SortMethod::kCounting) {
+    keyCounts_.Resize(shape.keyCount);
+    CudaCheck(cub::DeviceScan::ExclusiveSum(nullptr, bytes, keyCounts_.Data(), keyCounts_.Data(),
+                                            int(shape.keyCount), stream_),
+              "cub::DeviceScan::ExclusiveSum");
+  } else {
+    CudaCheck(cub::DeviceRadixSort::SortPairs(nullptr, bytes, static_cast<const uint32_t*>(nullptr),
+                                              static_cast<uint32_t*>(nullptr),
+                                              static_cast<const uint32_t*>(nullptr),
+                                              static_cast<uint32_t*>(nullptr), int(shape.n), 0,
+                                              EndBit(shape), stream_),
+              "cub::DeviceRadixSort::SortPairs");
+  }
+  orderScratch_.Resize(std::max<size_t>(bytes, 1));
+  return orderScratch_.Bytes() + keyCounts_.Bytes();
+}
+
+void CudaBackend::OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a) {
+  if (shape.n == 0) return;
+  BeginStage(stage);
+  size_t bytes = orderScratch_.Bytes();
+  if (shape.method == SortMethod::kCounting) {
+    uint32_t* counts = keyCounts_.Data();
+    size_t shared = shape.keyCount * sizeof(uint32_t);
+    CudaCheck(cudaMemsetAsync(counts, 0, shared, stream_), "cudaMemsetAsync");
+    uint32_t blocks = std::min(kHistogramBlocks, (shape.n + kOrderBlock - 1) / kOrderBlock);
+    KeyHistogramKernel<<<blocks, kOrderBlock, shared, stream_>>>(a.keys, shape.n,
+                                                                shape.keyCount, counts);
+    CudaCheck(cub::DeviceScan::ExclusiveSum(orderScratch_.Data(), bytes, counts, counts,
+                                            int(shape.keyCount), stream_),
+              "cub::DeviceScan::ExclusiveSum");
+    KeyScatterKernel<<<(shape.n + kOrderBlock - 1) / kOrderBlock, kOrderBlock, 2 * shared,
+                       stream_>>>(a, shape.n, shape.keyCount, counts);
+  } else {
+    CudaCheck(cub::DeviceRadixSort::SortPairs(orderScratch_.Data(), bytes, a.keys, a.keysOut,
+                                              a.values, a.valuesOut, int(shape.n), 0,
+                                              EndBit(shape), stream_),
+              "cub::DeviceRadixSort::SortPairs");
+  }
+  CudaCheck(cudaGetLastError(), "ordering kernels");
+  EndStage(stage);
+}
 
 CudaBackend::CudaBackend(int device) {
   int count = 0;
@@ -52,7 +152,7 @@ void CudaBackend::Synchronize() {
   for (Timing& t : pending_) {
     float ms = 0.0f;
     CudaCheck(cudaEventElapsedTime(&ms, t.start, t.end), "cudaEventElapsedTime");
-    StageTime(times_, t.stage) += ms;
+    AddStageTime(times_, t.stage, ms);
     eventPool_.push_back(t.start);
     eventPool_.push_back(t.end);
   }

@@ -78,8 +78,8 @@ TEST_F(CliRun, BadCommandLineExitsOne) {
   EXPECT_EQ(RunPathtracer(scene_, &out), 1) << out;                        // no -o
   EXPECT_EQ(RunPathtracer(scene_ + o + " --spp x", &out), 1) << out;       // bad number
   EXPECT_EQ(RunPathtracer(scene_ + o + " --backend gpu", &out), 1) << out;  // bad enum
-  EXPECT_EQ(RunPathtracer(scene_ + o + " --sort queues", &out), 1) << out;
-  EXPECT_NE(out.find("not built yet"), std::string::npos) << out;
+  EXPECT_EQ(RunPathtracer(scene_ + o + " --sort-method quick", &out), 1) << out;  // bad enum
+  EXPECT_NE(out.find("--sort-method"), std::string::npos) << out;
   EXPECT_EQ(RunPathtracer(scene_ + o + " --crop 0 0 17 4", &out), 1) << out;  // outside 16x16
   EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
 }

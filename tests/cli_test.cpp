@@ -116,6 +116,11 @@ TEST(CliParse, EnumValues) {
   EXPECT_EQ(with("--sort", "off").sort, SortMode::kOff);
   EXPECT_EQ(with("--sort", "material").sort, SortMode::kMaterial);
   EXPECT_EQ(with("--sort", "auto").sort, SortMode::kAuto);
+  EXPECT_EQ(with("--sort", "queues").sort, SortMode::kQueues);
+  EXPECT_EQ(with("--sort-method", "counting").sortMethod, SortMethod::kCounting);
+  EXPECT_EQ(with("--sort-method", "radix").sortMethod, SortMethod::kRadix);
+  EXPECT_EQ(with("--sort-method", "radix32").sortMethod, SortMethod::kRadixFullWidth);
+  EXPECT_EQ(with("--sort-method", "auto").sortMethod, SortMethod::kAuto);
   EXPECT_EQ(with("--integrator", "mis").integrator, IntegratorMode::kMis);
   EXPECT_EQ(with("--integrator", "bsdf").integrator, IntegratorMode::kBsdf);
   EXPECT_EQ(with("--integrator", "nee").integrator, IntegratorMode::kNee);
@@ -218,22 +223,14 @@ TEST(CliParse, LaterFeatureOptionsParse) {
             TriangleTest::kMollerTrumbore);
 }
 
-TEST(CliParse, LaterFeaturesAreRefusedNotIgnored) {
-  std::vector<std::vector<const char*>> refused = {
-      {"--sort", "queues"},
-  };
-  for (auto args : refused) {
-    args.insert(args.begin(), {"s.json", "-o", "o.png"});
-    std::string message = ParseError(args);
-    EXPECT_TRUE(Contains(message, "not built yet")) << args[3] << ": " << message;
-  }
-  // Malformed values of those options are plain errors, not "not built yet".
+TEST(CliParse, MalformedValuesOfChoiceOptionsAreErrors) {
   for (auto args : std::vector<std::vector<const char*>>{{"--adaptive", "maybe"},
                                                          {"--tri-test", "fast"},
                                                          {"--ray-offset", "-1"},
                                                          {"--film", "half"},
                                                          {"--specialize", "yes"},
-                                                         {"--light-paths", "some"}}) {
+                                                         {"--light-paths", "some"},
+                                                         {"--sort-method", "bogo"}}) {
     args.insert(args.begin(), {"s.json", "-o", "o.png"});
     std::string message = ParseError(args);
     EXPECT_TRUE(Contains(message, "bad value")) << args[3] << ": " << message;

@@ -87,10 +87,6 @@ T ParseChoice(ValueSource& src, std::initializer_list<std::pair<const char*, T>>
   throw CliError("bad value for " + src.Option() + ": '" + text + "' (expected " + names + ")");
 }
 
-[[noreturn]] void NotBuilt(const std::string& what) {
-  throw CliError(what + " is not built yet");
-}
-
 CropWindow ParseCrop(ValueSource& src) {
   std::vector<std::string> parts;
   std::string first = src.Take();
@@ -202,11 +198,15 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
        }},
       {"--sort",
        [](CliOptions& o, ValueSource& s) {
-         std::optional<SortMode> mode = ParseChoice<std::optional<SortMode>>(
+         o.sort = ParseChoice<SortMode>(
              s, {{"off", SortMode::kOff}, {"material", SortMode::kMaterial},
-                 {"queues", std::nullopt}, {"auto", SortMode::kAuto}});
-         if (!mode) NotBuilt("--sort queues");
-         o.sort = *mode;
+                 {"queues", SortMode::kQueues}, {"auto", SortMode::kAuto}});
+       }},
+      {"--sort-method",
+       [](CliOptions& o, ValueSource& s) {
+         o.sortMethod = ParseChoice<SortMethod>(
+             s, {{"auto", SortMethod::kAuto}, {"counting", SortMethod::kCounting},
+                 {"radix", SortMethod::kRadix}, {"radix32", SortMethod::kRadixFullWidth}});
        }},
       {"--integrator",
        [](CliOptions& o, ValueSource& s) {

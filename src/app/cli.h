@@ -34,6 +34,7 @@ struct CliOptions {
   int threads = 0;
   Toggle compact = Toggle::kAuto;
   SortMode sort = SortMode::kAuto;
+  SortMethod sortMethod = SortMethod::kAuto;
   IntegratorMode integrator = IntegratorMode::kMis;
   double timeLimitSeconds = 0.0;     // 0 = none
   double previewEverySeconds = 0.0;  // 0 = none

@@ -47,14 +47,17 @@ Backend and performance
   --max-paths N            paths in flight at once (default: the backend's); lower it when
                            the GPU runs out of memory
   --compact on|off|auto    stream compaction of finished paths (default auto)
-  --sort off|material|auto order live paths by material before shading (default auto)
+  --sort off|material|queues|auto
+                           shading order: as queued; ordered by material (one kernel); or
+                           ordered and one kernel per material type and texturing (queues);
+                           auto picks from the scene's materials (docs/sorting.md)
+  --sort-method auto|counting|radix|radix32
+                           how paths are ordered: counting sort, radix sort over the key
+                           bits, or over all 32 (default auto: counting)
   --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = the faster
                            one measured (wide, on the CPU and the GPU; default auto)
   --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
-  --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = wide on the
-                           GPU, binary on the CPU (the faster on each; default auto)
-  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --film float|double      film accumulation precision (default float)
   --tri-test watertight|mt triangle test (default watertight)
   --ray-offset robust|EPS  ray origin offsets from error bounds, or a fixed epsilon
@@ -85,8 +88,6 @@ Several GPUs or hosts (a build with MPI; see docs/distributed.md)
   --lanes N                under mpirun: render lanes (sessions) per rank; 2 on a GPU overlap
                            one lane's film download with the other's rendering (default 2 on
                            a GPU, 1 on the CPU)
-
-Not built yet (refused): --sort queues.
 
 SIGINT, SIGTERM and SIGHUP stop the render after the current wave and write the image so far
 (an --hdr EXR then holds a resumable state); a second signal quits at once.

@@ -104,6 +104,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.threads = cli.threads;
   options.compact = cli.compact;
   options.sort = cli.sort;
+  options.sortMethod = cli.sortMethod;
   options.integrator = cli.integrator;
   if (cli.crop) options.crop = *cli.crop;
   options.timeLimitSeconds = cli.timeLimitSeconds;

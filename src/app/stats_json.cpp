@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "src/integrator/shade_queues.h"
 #include "src/io/image_io.h"
 #include "src/scene/effects.h"
 
@@ -32,6 +33,22 @@ Json SceneJson(const Scene& scene) {
               {"effects", SceneEffectNames(scene)}};
 }
 
+// Milliseconds per shade queue (--sort queues), queues that ran only.
+Json ShadeQueueTimesJson(const StageTimes& s) {
+  Json queues = Json::object();
+  for (uint32_t q = 0; q < kShadeQueueCount; ++q)
+    if (s.shadeQueues[q] > 0.0) queues[ShadeQueueName(q)] = s.shadeQueues[q];
+  return queues;
+}
+
+// The shading order that ran (auto's choice and its reason).
+Json SortJson(const RenderStats& stats) {
+  return Json{{"mode", stats.sortMode},
+              {"method", stats.sortMethod.empty() ? Json(nullptr) : Json(stats.sortMethod)},
+              {"reason", stats.sortReason},
+              {"paths_ordered", stats.pathsOrdered}};
+}
+
 Json TimesJson(const RenderStats& stats, const AppTimes& times) {
   const StageTimes& s = stats.stages;
   return Json{{"total", times.totalMs},
@@ -45,7 +62,8 @@ Json TimesJson(const RenderStats& stats, const AppTimes& times) {
                               {"shade", s.shade},
                               {"shadow", s.shadow},
                               {"compact", s.compact},
-                              {"accumulate", s.accumulate}}}};
+                              {"accumulate", s.accumulate},
+                              {"shade_queues", ShadeQueueTimesJson(s)}}}};
 }
 
 // Peaks that mean something on each backend: the renderer's own buffers (device memory on a
@@ -124,6 +142,8 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
                    {"sah_cost", scene.bvhSahCost},
                    {"mean_nodes_visited", Mean(stats.nodesVisited, stats.traversals)},
                    {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},
+      {"sort", SortJson(stats)},
+      {"compact", stats.compactUsed},
       {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
       {"paths_in_flight", stats.pathsInFlight},
       {"memory", MemoryJson(stats, run)},

@@ -1,6 +1,6 @@
-// What `auto` means for --compact and --sort. Measured (benchmarks/RESULTS.md): compaction on
-// and sorting off is the fastest fixed setting on every benchmark scene on the GPU, so `auto`
-// is that everywhere; a per-scene choice would need a scene where the ranking changes.
+// What `auto` means for --compact (--sort's auto is ChooseSortMode in shade_order.h: it reads
+// the scene's materials). Measured (benchmarks/RESULTS.md): compaction on is the fastest fixed
+// setting on every benchmark scene on the GPU, so `auto` is that everywhere.
 #pragma once
 
 #include "src/integrator/render_api.h"
@@ -9,7 +9,6 @@ namespace pt {
 
 struct FlagChoice {
   bool compact;
-  bool sort;
 };
 
 FlagChoice ChooseFlags(const RenderOptions& options);

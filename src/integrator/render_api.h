@@ -2,19 +2,26 @@
 // same entry point on each backend. Backends implement RenderCpu / RenderCuda.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "src/integrator/shade_queues.h"
 #include "src/scene/scene.h"
 
 namespace pt {
 
 enum class BackendKind { kAuto, kCpu, kCuda };
 enum class Toggle { kAuto, kOff, kOn };
-enum class SortMode { kAuto, kOff, kMaterial };
+// Shading order: the queue as it stands; ordered by material key (one kernel); or one kernel
+// per shade queue (src/integrator/shade_queues.h).
+enum class SortMode { kAuto, kOff, kMaterial, kQueues };
+// How a bounce's paths are ordered by key: counting sort (histogram, scan, scatter), radix
+// sort over the bits the keys need, or over all 32 bits (the old ordering, for comparison).
+enum class SortMethod { kAuto, kCounting, kRadix, kRadixFullWidth };
 enum class IntegratorMode { kMis, kBsdf, kNee };
 enum class LightPaths { kAll, kDirect, kIndirect };
 enum class TriangleTest { kWatertight, kMollerTrumbore };
@@ -30,6 +37,7 @@ struct RenderOptions {
   int threads = 0;  // CPU threads, 0 = all cores
   Toggle compact = Toggle::kAuto;
   SortMode sort = SortMode::kAuto;
+  SortMethod sortMethod = SortMethod::kAuto;
   IntegratorMode integrator = IntegratorMode::kMis;
   CropWindow crop;
   double timeLimitSeconds = 0.0;     // <= 0: none
@@ -76,6 +84,7 @@ struct FilmState {
 struct StageTimes {
   double generate = 0, intersect = 0, sort = 0, shade = 0, shadow = 0, compact = 0,
          accumulate = 0;
+  std::array<double, kShadeQueueCount> shadeQueues{};  // per queue (--sort queues), in shade
 };
 
 struct RenderStats {
@@ -92,6 +101,10 @@ struct RenderStats {
   bool interrupted = false;
   bool compactUsed = false;
   bool sortUsed = false;
+  std::string sortMode = "off";    // the shading order that ran (auto's choice)
+  std::string sortMethod;          // how paths were ordered, when they were
+  std::string sortReason;          // why auto chose it (the rule, or the calibration)
+  uint64_t pathsOrdered = 0;       // paths ordered, summed over bounces
   std::string specialization;  // the stage variant that ran
   std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
 };

@@ -5,18 +5,28 @@
 
 namespace pt {
 
-enum class Stage { kGenerate, kIntersect, kSort, kShade, kShadow, kCompact, kAccumulate, kCount };
+// kShadeQueue + q: the shade kernel of queue q (--sort queues), timed as shading and per queue.
+enum class Stage : uint32_t {
+  kGenerate, kIntersect, kSort, kShade, kShadow, kCompact, kAccumulate, kShadeQueue
+};
 
-inline double& StageTime(StageTimes& t, Stage s) {
+inline Stage ShadeQueueStage(uint32_t q) { return Stage(uint32_t(Stage::kShadeQueue) + q); }
+
+inline void AddStageTime(StageTimes& t, Stage s, double ms) {
   switch (s) {
-    case Stage::kGenerate: return t.generate;
-    case Stage::kIntersect: return t.intersect;
-    case Stage::kSort: return t.sort;
-    case Stage::kShade: return t.shade;
-    case Stage::kShadow: return t.shadow;
-    case Stage::kCompact: return t.compact;
-    case Stage::kAccumulate:
-    default: return t.accumulate;
+    case Stage::kGenerate: t.generate += ms; break;
+    case Stage::kIntersect: t.intersect += ms; break;
+    case Stage::kSort: t.sort += ms; break;
+    case Stage::kShade: t.shade += ms; break;
+    case Stage::kShadow: t.shadow += ms; break;
+    case Stage::kCompact: t.compact += ms; break;
+    case Stage::kAccumulate: t.accumulate += ms; break;
+    default: {
+      uint32_t q = uint32_t(s) - uint32_t(Stage::kShadeQueue);
+      t.shade += ms;
+      if (q < kShadeQueueCount) t.shadeQueues[q] += ms;
+      break;
+    }
   }
 }
 

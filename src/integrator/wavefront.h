@@ -1,5 +1,6 @@
 // The wavefront path tracer, generic over the backend. Per wave of paths: generate camera
-// rays; then per bounce: intersect, sort by material (optional), shade (queuing shadow rays),
+// rays; then per bounce: intersect, shade (in the order --sort asks: src/integrator/
+// shade_launcher.h; queuing shadow rays),
 // trace shadow rays, compact finished paths (optional); finally accumulate into the film.
 // The Backend supplies memory (Buffer<T>), ParallelFor, and the queue primitives (compaction,
 // sort, count); every stage body it runs is the same src/integrator/stages/ function.
@@ -19,6 +20,7 @@
 #include "src/integrator/path_state.h"
 #include "src/integrator/render_api.h"
 #include "src/integrator/scene_upload.h"
+#include "src/integrator/shade_launcher.h"
 #include "src/integrator/stage_id.h"
 #include "src/integrator/stages/accumulate.h"
 #include "src/integrator/stages/generate.h"
@@ -150,7 +152,6 @@ class WavefrontIntegrator {
     for (int bounce = 0; alive > 0; ++bounce) {
       if (bounce > 0) stats_.extensionRays += alive;
       IntersectClosest(n);
-      if (sort_) SortByMaterial(n);
       Shade(wave, n);
       TraceShadowRays(n);
       if (compact_) alive = n = CompactFinished(n);
@@ -178,7 +179,7 @@ class WavefrontIntegrator {
     });
   }
 
-  // Intersect: closest hit per queued path, and its material as the sort key.
+  // Intersect: closest hit per queued path, and its sort key when shading is ordered.
   void IntersectClosest(uint32_t n) {
     ForTraversal([&](auto layout, auto instanced) {
       IntersectLayout<decltype(layout)::value, decltype(instanced)::value>(n);
@@ -202,45 +203,20 @@ class WavefrontIntegrator {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
-    uint32_t* keys = sort_ ? sortKeys_.Data() : nullptr;
+    SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath<L, kInstanced>(scene, ps, queue[i], keys ? keys + i : nullptr, counters);
+      IntersectPath<L, kInstanced>(scene, ps, queue[i], i, keys, counters);
     });
-  }
-
-  // Sort: reorder the queue by material so neighbouring threads shade alike.
-  void SortByMaterial(uint32_t n) {
-    backend_.SortByKey(Stage::kSort, sortKeys_.Data(), queue_.Data(), n);
   }
 
   // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette;
-  // in the variant compiled for the scene's effects.
-  // The diffuse and smooth variants come with and without environment-map code; the
-  // general one always has it (a scene without a map skips it at run time).
+  // in the variant compiled for the scene's effects (with or without environment-map code),
+  // in the order --sort asks for.
   void Shade(const WaveInfo& wave, uint32_t n) {
-    switch (featureClass_) {
-      case FeatureClass::kDiffuse:
-        if (envMap_) ShadeVariant<FeatureClass::kDiffuse, true>(wave, n);
-        else ShadeVariant<FeatureClass::kDiffuse, false>(wave, n);
-        break;
-      case FeatureClass::kSmooth:
-        if (envMap_) ShadeVariant<FeatureClass::kSmooth, true>(wave, n);
-        else ShadeVariant<FeatureClass::kSmooth, false>(wave, n);
-        break;
-      default: ShadeVariant<FeatureClass::kGeneral, true>(wave, n); break;
-    }
-  }
-
-  template <FeatureClass C, bool kMap>
-  void ShadeVariant(const WaveInfo& wave, uint32_t n) {
-    PathState ps = pathState_;
-    SceneView scene = sceneBuffers_.view;
-    IntegratorParams params = params_;
-    const uint32_t* queue = queue_.Data();
-    backend_.ParallelFor(Stage::kShade, n, [=] PT_HD(uint32_t i) {
-      ShadePath<C, kMap>(scene, params, wave, ps, queue[i]);
-    });
+    typename ShadeLauncher<Backend>::Inputs in{sceneBuffers_.view, params_, pathState_};
+    stats_.pathsOrdered +=
+        shade_.Shade(sortMode_, featureClass_, envMap_, wave, in, queue_.Data(), n);
   }
 
   // Shadow: any-hit test for each queued shadow ray.
@@ -298,6 +274,7 @@ class WavefrontIntegrator {
     sceneBuffers_.view.camera = camera;
   }
   void ApplyOptions(const RenderOptions& options);
+  void ApplySortOptions();
   void SceneChanged();
   void TopLevelChanged();
   void MaterialsChanged();
@@ -334,7 +311,8 @@ class WavefrontIntegrator {
   const Scene& scene_;
   RenderOptions options_;
   RenderCallbacks callbacks_;
-  bool compact_ = true, sort_ = false;
+  bool compact_ = true;
+  SortMode sortMode_ = SortMode::kOff;  // auto resolved
   bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;
   IntegratorParams params_{};
@@ -343,7 +321,8 @@ class WavefrontIntegrator {
   Buffer<vec3> rayOrigin_, rayDir_, throughput_, radiance_, shadowOrigin_, shadowDir_,
       shadowRadiance_;
   Buffer<float> prevPdf_, shadowTMax_;
-  Buffer<uint32_t> flags_, queue_, sortKeys_;
+  Buffer<uint32_t> flags_, queue_;
+  ShadeLauncher<Backend> shade_{backend_};
   Buffer<PathHit> hit_;
   Buffer<uint32_t> hitInstance_;
   Buffer<vec3> featureAlbedo_, featureNormal_;

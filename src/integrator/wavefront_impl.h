@@ -27,6 +27,7 @@ template <typename Backend>
 void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.compact = o.compact;
   options_.sort = o.sort;
+  options_.sortMethod = o.sortMethod;
   options_.integrator = o.integrator;
   options_.lightPaths = o.lightPaths;
   options_.specialize = o.specialize;
@@ -38,16 +39,30 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.clampLuminance = o.clampLuminance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
-  sort_ = flags.sort;
   stats_.compactUsed = compact_;
-  stats_.sortUsed = sort_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
   stats_.specialization = FeatureClassName(featureClass_);
+  ApplySortOptions();
   sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
   sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
+}
+
+// The shading order: auto's choice from the scene's materials, the keys, the ordering buffers.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::ApplySortOptions() {
+  shade_.SetScene(scene_, options_.sortMethod);
+  SortChoice choice =
+      ChooseSortMode(options_.sort, shade_.Keys(), featureClass_, Backend::kLockstepLanes);
+  sortMode_ = choice.mode;
+  bool ordering = sortMode_ != SortMode::kOff;
+  if (ordering && queue_.Size() > 0) shade_.EnsureOrdering(queue_.Size());
+  stats_.sortUsed = ordering;
+  stats_.sortMode = SortModeName(sortMode_);
+  stats_.sortMethod = ordering ? SortMethodName(shade_.Method()) : "";
+  stats_.sortReason = choice.reason;
 }
 
 // The Scene was edited: its arrays again (a camera set on the session stays), and what the
@@ -109,7 +124,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   shadowTMax_.Resize(n);
   flags_.Resize(n);
   queue_.Resize(n);
-  sortKeys_.Resize(n);
+  if (sortMode_ != SortMode::kOff) shade_.EnsureOrdering(n);
   hit_.Resize(n);
   hitInstance_.Resize(scene_.HasInstances() ? n : 0);
   // Feature buffers exist only when asked for: a render without them pays nothing.
@@ -123,7 +138,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
                          featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
   stats_.pathsInFlight = n;
-  stats_.pathStateBytesPerPath = kPathStateBytes + backend_.SortScratchBytesPerPath(sort_) +
+  stats_.pathStateBytesPerPath = kPathStateBytes + shade_.BytesPerPath() +
                                  (params_.featureBuffers ? kFeatureBytes : 0) +
                                  (scene_.HasInstances() ? kInstanceHitBytes : 0);
 }

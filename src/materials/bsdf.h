@@ -15,10 +15,13 @@
 namespace pt {
 
 // ---- Entry points ----
+// kType: the material's type when the caller knows it at compile time (a shade kernel of one
+// queue), so each switch below folds to that case; MaterialType::kCount reads m.type.
 
 // f(wo, wi) without the cosine. Zero for delta lobes and for materials that reflect nothing.
+template <MaterialType kType = MaterialType::kCount>
 PT_HDI vec3 EvalBsdf(const Material& m, vec3 wo, vec3 wi) {
-  switch (m.type) {
+  switch (TypeOf<kType>(m)) {
     case MaterialType::kDiffuse: return EvalLambert(m, wo, wi);
     case MaterialType::kConductor:
       return IsSmooth(m) ? vec3(0.0f) : EvalRoughConductor(m, wo, wi);
@@ -32,8 +35,9 @@ PT_HDI vec3 EvalBsdf(const Material& m, vec3 wo, vec3 wi) {
 }
 
 // Solid-angle density with which SampleBsdf produces wi. Zero for delta lobes.
+template <MaterialType kType = MaterialType::kCount>
 PT_HDI float PdfBsdf(const Material& m, vec3 wo, vec3 wi) {
-  switch (m.type) {
+  switch (TypeOf<kType>(m)) {
     case MaterialType::kDiffuse: return PdfLambert(wo, wi);
     case MaterialType::kConductor: return IsSmooth(m) ? 0.0f : PdfRoughConductor(m, wo, wi);
     case MaterialType::kDielectric:
@@ -48,8 +52,9 @@ PT_HDI float PdfBsdf(const Material& m, vec3 wo, vec3 wi) {
 // Draws wi given wo; uc picks a lobe, u the direction. Returns false when the path ends here
 // (absorbed, black, grazing, shadowed by the microfacets, or an emitter, which reflects
 // nothing).
+template <MaterialType kType = MaterialType::kCount>
 PT_HDI bool SampleBsdf(const Material& m, vec3 wo, float uc, vec2 u, BsdfSample* s) {
-  switch (m.type) {
+  switch (TypeOf<kType>(m)) {
     case MaterialType::kDiffuse: return SampleLambert(m, wo, u, s);
     case MaterialType::kConductor:
       return IsSmooth(m) ? SampleSmoothConductor(m, wo, s) : SampleRoughConductor(m, wo, u, s);
@@ -66,8 +71,9 @@ PT_HDI bool SampleBsdf(const Material& m, vec3 wo, float uc, vec2 u, BsdfSample*
 // True where next-event estimation can contribute (some lobe is not a Dirac delta): every
 // plastic (its base is diffuse), rough conductors and rough glass, glTF materials with a
 // diffuse base or a rough lobe.
+template <MaterialType kType = MaterialType::kCount>
 PT_HDI bool HasNonDeltaLobe(const Material& m) {
-  switch (m.type) {
+  switch (TypeOf<kType>(m)) {
     case MaterialType::kDiffuse: return !IsBlack(m.albedo);
     case MaterialType::kConductor: return !IsSmooth(m);
     case MaterialType::kDielectric: return !IsSmoothDielectric(m);

@@ -52,12 +52,16 @@ PT_HDI void ResolveGltfTextures(const SceneView& s, PrimRef ref, SurfaceInteract
   }
 }
 
-// The material of primitive ref at si, textures applied.
+// The material of primitive ref at si, textures applied. kType and kMayHaveTextures are what
+// a shade kernel of one queue knows at compile time (its type; whether its materials have
+// textures); the defaults read both from the material.
+template <MaterialType kType = MaterialType::kCount, bool kMayHaveTextures = true>
 PT_HDI Material ResolveMaterial(const SceneView& s, PrimRef ref, SurfaceInteraction* si) {
   Material m = s.materials[si->material];
-  if (m.type == MaterialType::kGltfPbr) {
-    ResolveGltfTextures(s, ref, si, &m);
-  } else if (m.baseColorTexture >= 0) {
+  if (TypeOf<kType>(m) == MaterialType::kGltfPbr) {
+    if constexpr (kMayHaveTextures) ResolveGltfTextures(s, ref, si, &m);
+    else m.albedo *= vec3(VertexColorAt(s, ref, si->uv));  // all that applies without textures
+  } else if (kMayHaveTextures && m.baseColorTexture >= 0) {
     TexCoords tc = TexCoordsAt(s, ref, si->uv, FootprintWidth(s.camera, si->p, si->ng));
     m.albedo *= vec3(SampleTextureRef(s, m.baseColorTexture, tc));
   }

@@ -106,6 +106,13 @@ struct Material {
   int32_t transmissionTexture = -1;       // R multiplies the transmission factor
 };
 
+// The type of m, or kType where a caller knows it at compile time (a shade kernel of one
+// queue: src/integrator/shade_queues.h), so a switch on it folds to one case.
+template <MaterialType kType>
+PT_HDI MaterialType TypeOf(const Material& m) {
+  return kType == MaterialType::kCount ? m.type : kType;
+}
+
 // ---- Textures ----
 enum class TextureWrap : uint32_t { kRepeat = 0, kClampToEdge = 1, kMirroredRepeat = 2 };
 

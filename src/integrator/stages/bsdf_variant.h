@@ -3,9 +3,14 @@
 // contain no microfacet, plastic, glTF or texture code at all; the general variant dispatches
 // over every material. Each variant computes exactly what the general one does for the materials
 // it admits (same functions, same order), so images are bit-identical on the CPU.
+//
+// Q is the shade queue a kernel serves (src/integrator/shade_queues.h), or kAnyQueue: in a
+// queue's kernel the material type is a compile-time constant (kQueueType<Q>), so every switch
+// on it folds to one case, and untextured queues compile no texture lookups.
 #pragma once
 
 #include "src/materials/bsdf.h"
+#include "src/integrator/shade_queues.h"
 #include "src/materials/resolve.h"
 #include "src/scene/effects.h"
 
@@ -13,44 +18,51 @@ namespace pt {
 
 // The material at the hit; the general variant applies textures (and normal maps, which move
 // si->ns).
-template <FeatureClass C>
+template <FeatureClass C, uint32_t Q>
 PT_HDI Material MaterialAt(const SceneView& s, PrimRef ref, SurfaceInteraction* si) {
-  if constexpr (C == FeatureClass::kGeneral) return ResolveMaterial(s, ref, si);
+  if constexpr (C == FeatureClass::kGeneral)
+    return ResolveMaterial<kQueueType<Q>, Q == kAnyQueue || QueueTextured(Q)>(s, ref, si);
   else return s.materials[si->material];
 }
 
-template <FeatureClass C>
+// Whether m has type t, constant in a queue's kernel.
+template <uint32_t Q>
+PT_HDI bool IsType(const Material& m, MaterialType t) {
+  return TypeOf<kQueueType<Q>>(m) == t;
+}
+
+template <FeatureClass C, uint32_t Q>
 PT_HDI vec3 EvalBsdfFor(const Material& m, vec3 wo, vec3 wi) {
-  if constexpr (C == FeatureClass::kGeneral) return EvalBsdf(m, wo, wi);
-  else return m.type == MaterialType::kDiffuse ? EvalLambert(m, wo, wi) : vec3(0.0f);
+  if constexpr (C == FeatureClass::kGeneral) return EvalBsdf<kQueueType<Q>>(m, wo, wi);
+  else return IsType<Q>(m, MaterialType::kDiffuse) ? EvalLambert(m, wo, wi) : vec3(0.0f);
 }
 
-template <FeatureClass C>
+template <FeatureClass C, uint32_t Q>
 PT_HDI float PdfBsdfFor(const Material& m, vec3 wo, vec3 wi) {
-  if constexpr (C == FeatureClass::kGeneral) return PdfBsdf(m, wo, wi);
-  else return m.type == MaterialType::kDiffuse ? PdfLambert(wo, wi) : 0.0f;
+  if constexpr (C == FeatureClass::kGeneral) return PdfBsdf<kQueueType<Q>>(m, wo, wi);
+  else return IsType<Q>(m, MaterialType::kDiffuse) ? PdfLambert(wo, wi) : 0.0f;
 }
 
-template <FeatureClass C>
+template <FeatureClass C, uint32_t Q>
 PT_HDI bool SampleBsdfFor(const Material& m, vec3 wo, float uc, vec2 u, BsdfSample* s) {
   if constexpr (C == FeatureClass::kGeneral) {
-    return SampleBsdf(m, wo, uc, u, s);
+    return SampleBsdf<kQueueType<Q>>(m, wo, uc, u, s);
   } else if constexpr (C == FeatureClass::kSmooth) {
-    switch (m.type) {
+    switch (TypeOf<kQueueType<Q>>(m)) {
       case MaterialType::kDiffuse: return SampleLambert(m, wo, u, s);
       case MaterialType::kConductor: return SampleSmoothConductor(m, wo, s);
       case MaterialType::kDielectric: return SampleSmoothDielectric(m, wo, uc, s);
       default: return false;
     }
   } else {
-    return m.type == MaterialType::kDiffuse && SampleLambert(m, wo, u, s);
+    return IsType<Q>(m, MaterialType::kDiffuse) && SampleLambert(m, wo, u, s);
   }
 }
 
-template <FeatureClass C>
+template <FeatureClass C, uint32_t Q>
 PT_HDI bool HasNonDeltaLobeFor(const Material& m) {
-  if constexpr (C == FeatureClass::kGeneral) return HasNonDeltaLobe(m);
-  else return m.type == MaterialType::kDiffuse && !IsBlack(m.albedo);
+  if constexpr (C == FeatureClass::kGeneral) return HasNonDeltaLobe<kQueueType<Q>>(m);
+  else return IsType<Q>(m, MaterialType::kDiffuse) && !IsBlack(m.albedo);
 }
 
 // Media exist only where light can refract into glass.

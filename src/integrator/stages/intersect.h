@@ -1,5 +1,5 @@
-// Stage 2, intersect: the closest hit of each live path's ray through the BVH, and the key
-// (material hit) that the optional sort orders the queue by.
+// Stage 2, intersect: the closest hit of each live path's ray through the BVH, and the key the
+// optional shading order sorts the queue by (src/integrator/shade_order.h).
 #pragma once
 
 #include "src/geometry/traverse.h"
@@ -8,21 +8,31 @@
 
 namespace pt {
 
-// Misses sort after every material; an instance's override is the material it shades with.
-PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const HitRecord& hit) {
+// Where intersect writes sort keys: one per queue position, from the materials' keys (ranked
+// by shade queue); escaped paths take materialCount, finished ones materialCount + 1. Null
+// keys: no ordering this render.
+struct SortKeyOutput {
+  uint32_t* keys;
+  const uint32_t* materialKeys;
+};
+
+// The key of the material a hit shades with (an instance's override where it has one).
+PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const uint32_t* materialKeys,
+                                const HitRecord& hit) {
   if (hit.prim == HitRecord::kNoHit) return scene.materialCount;
   if (hit.instance != kNoInstance && scene.instances[hit.instance].material >= 0)
-    return uint32_t(scene.instances[hit.instance].material);
-  return scene.prims[hit.prim].material;
+    return materialKeys[scene.instances[hit.instance].material];
+  return materialKeys[scene.prims[hit.prim].material];
 }
 
-// L is the scene's BVH layout (scene.bvhLayout), kInstanced whether it has instances (two
-// levels): one kernel per variant, so none pays for another's registers.
+// Path id at queue position i. L is the scene's BVH layout (scene.bvhLayout), kInstanced
+// whether it has instances (two levels): one kernel per variant, so none pays for another's
+// registers.
 template <BvhLayout L, bool kInstanced>
-PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t* sortKey,
-                          Counter* counters) {
+PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t i,
+                          SortKeyOutput sort, Counter* counters) {
   if (!IsAlive(ps.flags[id])) {  // only without compaction do dead paths stay queued
-    if (sortKey) *sortKey = scene.materialCount + 1;
+    if (sort.keys) sort.keys[i] = scene.materialCount + 1;
     return;
   }
   Ray ray{ps.rayOrigin[id], ps.rayDir[id]};
@@ -33,7 +43,7 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   TraversalCounters tc;
   SceneClosest<L, kInstanced>(scene, ray, kInfinity, &hit, &tc);
   StoreHit(ps, id, hit, kInstanced);
-  if (sortKey) *sortKey = MaterialSortKey(scene, hit);
+  if (sort.keys) sort.keys[i] = MaterialSortKey(scene, sort.materialKeys, hit);
   if (counters) {
     AddToCounter(&counters[kCounterNodesVisited], tc.nodes);
     AddToCounter(&counters[kCounterPrimsTested], tc.prims);

@@ -109,7 +109,7 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 
 // Next-event estimation at a non-delta vertex: sample a light, and queue the shadow ray that
 // decides whether its (MIS-weighted) contribution counts.
-template <FeatureClass C, bool kMap>
+template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const Material& mat, const Frame& frame,
                              vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
@@ -120,11 +120,11 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
   // Interpolated normals: a direction on the shading normal's side but through the geometric
   // surface (or the reverse) would start its shadow ray on the wrong side, a light leak.
   if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
-  vec3 f = EvalBsdfFor<C>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  vec3 f = EvalBsdfFor<C, Q>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
   if (IsBlack(f) || IsBlack(ls.L)) return false;
   float weight = 1.0f;
   if (!ls.isDelta && params.kind == IntegratorKind::kMis)
-    weight = PowerHeuristic(ls.pdf, PdfBsdfFor<C>(mat, woLocal, wiLocal));
+    weight = PowerHeuristic(ls.pdf, PdfBsdfFor<C, Q>(mat, woLocal, wiLocal));
   vec3 origin = SpawnOrigin(params, si, ls.wi);
   ps.shadowOrigin[id] = origin;
   ps.shadowDir[id] = ls.wi;
@@ -135,12 +135,12 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 }
 
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
-template <FeatureClass C>
+template <FeatureClass C, uint32_t Q>
 PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
                          const Material& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
                          uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
   BsdfSample bs;
-  if (!SampleBsdfFor<C>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
+  if (!SampleBsdfFor<C, Q>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
     return false;
   vec3 wi = frame.FromLocal(bs.wi);
   // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
@@ -164,76 +164,105 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   return true;
 }
 
-// kMap: whether the scene has an environment map (its code is compiled out otherwise).
-template <FeatureClass C, bool kMap>
-PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
-                      const WaveInfo& wave, PathState ps, uint32_t id) {
-  uint32_t flags = ps.flags[id];
-  if (!IsAlive(flags)) return;
-  uint32_t depth = DepthOf(flags);
-  HitRecord hit = LoadHit(ps, id, scene.instanceCount != 0);
-  Ray ray{ps.rayOrigin[id], ps.rayDir[id]};
-  vec3 beta = ps.throughput[id];
-  vec3 radiance = ps.radiance[id];
-  float prevPdf = ps.prevPdf[id];
+// What the shade stage reads of a path at its vertex.
+struct PathVertex {
+  uint32_t flags, depth;
+  HitRecord hit;
+  Ray ray;
+  vec3 beta, radiance;
+  float prevPdf;
+};
 
-  // Beer-Lambert attenuation over the segment travelled inside a dielectric.
-  int32_t medium = kHasMedia<C> ? MediumOf(flags) : -1;
-  if (medium >= 0) {
-    vec3 sigma = scene.materials[medium].absorption;
-    if (!IsBlack(sigma)) beta *= glm::exp(-sigma * hit.t);
+// Escaped: the environment (a constant, a map) and sun disks are lights; a camera ray may see
+// a backdrop instead where the environment is hidden from the camera.
+template <bool kMap>
+PT_HDI void ShadeEscaped(const SceneView& scene, const IntegratorParams& params, PathState ps,
+                         uint32_t id, const PathVertex& v) {
+  vec3 radiance = v.radiance;
+  if (params.featureBuffers && v.depth == 0) WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
+  if (v.depth == 0 && scene.env.hiddenFromCamera) {
+    if (params.Counts(0)) radiance += v.beta * scene.env.cameraColor;
+  } else if (params.Counts(v.depth)) {
+    radiance += EscapedRadiance<kMap>(scene, params.kind, v.flags, v.prevPdf, v.ray.d, v.beta);
   }
+  TerminatePath(ps, id, v.flags, radiance);
+}
 
-  if (hit.prim == HitRecord::kNoHit) {  // escaped: the environment and sun disks are lights
-    if (params.featureBuffers && depth == 0) WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
-    if (depth == 0 && scene.env.hiddenFromCamera) {
-      if (params.Counts(0)) radiance += beta * scene.env.cameraColor;
-    } else if (params.Counts(depth)) {
-      radiance += EscapedRadiance<kMap>(scene, params.kind, flags, prevPdf, ray.d, beta);
-    }
-    TerminatePath(ps, id, flags, radiance);
-    return;
-  }
-
-  SurfaceInteraction si = MakeInteraction(scene, ray, hit);
-  Material mat = MaterialAt<C>(scene, scene.prims[hit.prim], &si);
-  vec3 wo = -ray.d;
-  if (params.featureBuffers && depth == 0)
-    WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns, hit.t);
-  if (mat.type == MaterialType::kEmissive) {  // emitters reflect nothing
+// A surface hit: emission, next-event estimation, the continuation ray.
+template <FeatureClass C, uint32_t Q, bool kMap>
+PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
+                         const WaveInfo& wave, PathState ps, uint32_t id, PathVertex v) {
+  SurfaceInteraction si = MakeInteraction(scene, v.ray, v.hit);
+  Material mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
+  vec3 wo = -v.ray.d;
+  if (params.featureBuffers && v.depth == 0)
+    WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns,
+                  v.hit.t);
+  if (IsType<Q>(mat, MaterialType::kEmissive)) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
-    if (!IsBlack(le) && si.light >= 0 && params.Counts(depth)) {
-      float lightPdf = LightPdf<kMap>(scene, si.light, ray.o, si.p, si.ng);
-      radiance += beta * le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
+    if (!IsBlack(le) && si.light >= 0 && params.Counts(v.depth)) {
+      float lightPdf = LightPdf<kMap>(scene, si.light, v.ray.o, si.p, si.ng);
+      v.radiance += v.beta * le * EmitterHitWeight(params.kind, v.flags, v.prevPdf, lightPdf);
     }
-    TerminatePath(ps, id, flags, radiance);
+    TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
   if constexpr (C == FeatureClass::kGeneral) {
-    if (mat.type == MaterialType::kGltfPbr && params.Counts(depth))
-      radiance += beta * SurfaceEmission(scene, params, si, mat, ray, flags, prevPdf);
+    if (IsType<Q>(mat, MaterialType::kGltfPbr) && params.Counts(v.depth))
+      v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf);
   }
-  if (int(depth) >= params.maxDepth) {
-    TerminatePath(ps, id, flags, radiance);
+  if (int(v.depth) >= params.maxDepth) {
+    TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
 
   Frame frame = Frame::FromZ(si.ns);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
-  if (params.kind != IntegratorKind::kBsdf && params.Counts(depth + 1) &&
-      HasNonDeltaLobeFor<C>(mat)) {
-    vec4 uLight = key.Draw4(depth, kDimLight);
-    if (QueueLightSample<C, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng), beta,
-                            uLight, ps, id))
+  uint32_t flags = v.flags;
+  if (params.kind != IntegratorKind::kBsdf && params.Counts(v.depth + 1) &&
+      HasNonDeltaLobeFor<C, Q>(mat)) {
+    vec4 uLight = key.Draw4(v.depth, kDimLight);
+    if (QueueLightSample<C, Q, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
+                               v.beta, uLight, ps, id))
       flags |= kFlagShadow;
   }
-  vec4 uBsdf = key.Draw4(depth, kDimBsdf);
-  bool alive = ContinuePath<C>(params, si, mat, frame, wo, woLocal, uBsdf, depth, &beta, &flags,
-                            ps, id);
-  ps.throughput[id] = beta;
-  ps.radiance[id] = radiance;
+  vec4 uBsdf = key.Draw4(v.depth, kDimBsdf);
+  bool alive = ContinuePath<C, Q>(params, si, mat, frame, wo, woLocal, uBsdf, v.depth, &v.beta,
+                                  &flags, ps, id);
+  ps.throughput[id] = v.beta;
+  ps.radiance[id] = v.radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
+}
+
+// Shades path id in the variant of feature class C; Q: the shade queue the kernel serves
+// (every path in it escaped, or hit a material of its type), or kAnyQueue; kMap: whether the
+// scene has an environment map (its code is compiled out otherwise).
+template <FeatureClass C, uint32_t Q, bool kMap = true>
+PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
+                      const WaveInfo& wave, PathState ps, uint32_t id) {
+  uint32_t flags = ps.flags[id];
+  if (!IsAlive(flags)) return;
+  PathVertex v{flags,
+               DepthOf(flags),
+               LoadHit(ps, id, scene.instanceCount != 0),
+               Ray{ps.rayOrigin[id], ps.rayDir[id]},
+               ps.throughput[id],
+               ps.radiance[id],
+               ps.prevPdf[id]};
+  // Beer-Lambert attenuation over the segment travelled inside a dielectric.
+  int32_t medium = kHasMedia<C> ? MediumOf(flags) : -1;
+  if (medium >= 0) {
+    vec3 sigma = scene.materials[medium].absorption;
+    if (!IsBlack(sigma)) v.beta *= glm::exp(-sigma * v.hit.t);
+  }
+  // A queue's kernel knows at compile time whether its paths escaped.
+  bool escaped = Q == kAnyQueue ? v.hit.prim == HitRecord::kNoHit : Q == kEscapedQueue;
+  if (escaped) {
+    ShadeEscaped<kMap>(scene, params, ps, id, v);
+    return;
+  }
+  if constexpr (Q != kEscapedQueue) ShadeSurface<C, Q, kMap>(scene, params, wave, ps, id, v);
 }
 
 }  // namespace pt

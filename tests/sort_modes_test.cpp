@@ -1,0 +1,180 @@
+// Shading orders (--sort off|material|queues, --sort-method): images depend only on slots,
+// never on the order in which paths are shaded, so every mode and method gives a
+// bit-identical CPU image; the shade queues partition the paths exactly.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+#include "cpu_backend/cpu_backend.h"
+#include "src/integrator/shade_order.h"
+#include "tests/material_zoo.h"
+#include "tests/render_test_util.h"
+#include "tests/test_util.h"
+
+namespace pt::test {
+namespace {
+
+bool SameImage(const FilmImage& a, const FilmImage& b) {
+  return a.rgb.size() == b.rgb.size() &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+RenderResult RenderWith(const Scene& scene, SortMode sort, SortMethod method, Toggle compact) {
+  RenderOptions o;
+  o.threads = 2;
+  o.sort = sort;
+  o.sortMethod = method;
+  o.compact = compact;
+  return RenderCpu(scene, o);
+}
+
+TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
+  ScopedTempDir dir;
+  Scene scene = BuildScene(MaterialZooDesc(dir, 6, 8, 1, 2));
+  ShadeKeys k = MakeShadeKeys(scene);
+  uint32_t count = uint32_t(scene.desc.materials.size());
+  EXPECT_EQ(k.escapedKey, count);
+  EXPECT_EQ(k.keyCount, count + 2);
+  EXPECT_GE(1u << k.keyBits, k.keyCount);
+  EXPECT_LT(1u << (k.keyBits - 1), k.keyCount);
+  // Keys are a permutation of the materials, each inside its queue's run.
+  std::vector<uint32_t> sorted = k.materialKey;
+  std::sort(sorted.begin(), sorted.end());
+  for (uint32_t m = 0; m < count; ++m) {
+    EXPECT_EQ(sorted[m], m);
+    uint32_t q = ShadeQueueOf(scene.desc.materials[m]);
+    EXPECT_GE(k.materialKey[m], k.firstKey[q]);
+    EXPECT_LT(k.materialKey[m], k.firstKey[q + 1]);
+  }
+  // The zoo holds every queue (the floor material of the JSON loader aside).
+  for (uint32_t q = 0; q < kShadeQueueCount; ++q) EXPECT_TRUE(k.Uses(q)) << ShadeQueueName(q);
+  EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral).mode, SortMode::kQueues);
+  EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kSmooth).mode, SortMode::kOff);
+  EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral, false).mode,
+            SortMode::kOff);
+  EXPECT_EQ(ChooseSortMode(SortMode::kQueues, k, FeatureClass::kGeneral, false).mode,
+            SortMode::kQueues);
+  EXPECT_EQ(ChooseSortMode(SortMode::kMaterial, k, FeatureClass::kGeneral).mode,
+            SortMode::kMaterial);
+}
+
+TEST(SortModes, EveryModeAndMethodGivesTheSameImageOnTheZoo) {
+  ScopedTempDir dir;
+  Scene scene = BuildScene(MaterialZooDesc(dir, 6, 24, 2, 6));
+  RenderResult base = RenderWith(scene, SortMode::kOff, SortMethod::kAuto, Toggle::kOff);
+  EXPECT_EQ(base.stats.sortMode, "off");
+  EXPECT_EQ(base.stats.pathsOrdered, 0u);
+  for (SortMode mode : {SortMode::kMaterial, SortMode::kQueues, SortMode::kAuto})
+    for (SortMethod method : {SortMethod::kCounting, SortMethod::kRadix,
+                              SortMethod::kRadixFullWidth})
+      for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
+        RenderResult r = RenderWith(scene, mode, method, compact);
+        EXPECT_TRUE(SameImage(base.image, r.image))
+            << SortModeName(mode) << " " << SortMethodName(method) << " compact "
+            << int(compact);
+        if (mode == SortMode::kAuto) {  // the CPU has no lockstep lanes: auto is off
+          EXPECT_EQ(r.stats.sortMode, "off");
+          continue;
+        }
+        EXPECT_GT(r.stats.pathsOrdered, 0u);
+        EXPECT_EQ(r.stats.sortMethod, SortMethodName(method));
+      }
+  // Each queue's kernel ran, and only those: the zoo uses all of them.
+  RenderResult q = RenderWith(scene, SortMode::kQueues, SortMethod::kAuto, Toggle::kOn);
+  EXPECT_EQ(q.stats.sortMode, "queues");
+  for (uint32_t i = 0; i < kShadeQueueCount; ++i)
+    EXPECT_GT(q.stats.stages.shadeQueues[i], 0.0) << ShadeQueueName(i);
+}
+
+// One path in all (a single pixel, one sample); every path on one material (a wall filling
+// the view, no bounce); materials no path reaches (tiles behind the camera).
+TEST(SortModes, QueuesWithOneAllAndNoPathsOfAMaterial) {
+  ScopedTempDir dir;
+  SceneDesc one = MaterialZooDesc(dir, 4, 1, 1, 3);
+  SceneDesc all = MaterialZooDesc(dir, 4, 16, 2, 0);
+  all.camera.position = vec3(-1.5f, -1.5f, 0.2f);  // tile 0 (diffuse) fills the view
+  all.camera.lookAt = vec3(-1.5f, -1.5f, 0.0f);
+  SceneDesc none = MaterialZooDesc(dir, 4, 16, 2, 3);
+  none.camera.lookAt = none.camera.position + (none.camera.position - vec3(0.0f));
+  for (SceneDesc* desc : {&one, &all, &none}) {
+    Scene scene = BuildScene(*desc);
+    RenderResult base = RenderWith(scene, SortMode::kOff, SortMethod::kAuto, Toggle::kOn);
+    for (SortMethod method : {SortMethod::kCounting, SortMethod::kRadix})
+      for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
+        RenderResult r = RenderWith(scene, SortMode::kQueues, method, compact);
+        EXPECT_TRUE(SameImage(base.image, r.image))
+            << (desc == &one ? "one" : desc == &all ? "all" : "none") << " "
+            << SortMethodName(method) << " compact " << int(compact);
+      }
+  }
+}
+
+// More materials than the counting sort's key table holds: the radix sort takes over, over
+// the key bits the scene needs, and the image does not change.
+TEST(SortModes, MaterialCountAboveTheKeyWidth) {
+  std::string materials, objects;
+  const int kMaterials = int(kCountingSortMaxKeys) + 10;
+  for (int m = 0; m < kMaterials; ++m) {
+    float g = 0.2f + 0.6f * float(m) / float(kMaterials);
+    materials += (m ? ", " : "") + std::string("\"m") + std::to_string(m) +
+                 R"(": {"type": "diffuse", "albedo": [)" + std::to_string(g) + ", 0.5, " +
+                 std::to_string(1.0f - g) + "]}";
+    float x = float(m % 64) - 32.0f, y = float(m / 64) - 32.0f;
+    objects += (m ? ", " : "") + std::string(R"({"type": "quad", "origin": [)") +
+               std::to_string(x) + ", " + std::to_string(y) +
+               R"(, 0], "u": [1, 0, 0], "v": [0, 1, 0], "material": "m)" + std::to_string(m) +
+               "\"}";
+  }
+  std::string text = R"({"render": {"width": 32, "height": 32, "spp": 2, "max_depth": 3},
+      "camera": {"position": [0, 0, 60], "look_at": [0, 0, 0], "fov_y": 60},
+      "materials": {)" + materials + R"(}, "objects": [)" + objects + R"(],
+      "lights": [{"type": "point", "position": [0, 0, 30], "intensity": [900, 900, 900]}]})";
+  Scene scene = BuildScene(LoadSceneFromString(text, "many.json", "."));
+  ShadeKeys k = MakeShadeKeys(scene);
+  EXPECT_GT(k.keyCount, kCountingSortMaxKeys);
+  EXPECT_EQ(ResolveSortMethod(SortMethod::kCounting, k.keyCount), SortMethod::kRadix);
+  EXPECT_EQ(k.keyBits, 13u);
+  RenderResult base = RenderWith(scene, SortMode::kOff, SortMethod::kAuto, Toggle::kOn);
+  for (SortMode mode : {SortMode::kMaterial, SortMode::kQueues}) {
+    RenderResult r = RenderWith(scene, mode, SortMethod::kCounting, Toggle::kOn);
+    EXPECT_EQ(r.stats.sortMethod, "radix");
+    EXPECT_TRUE(SameImage(base.image, r.image)) << SortModeName(mode);
+  }
+}
+
+// The orderings themselves: every method gives keys in order and the same multiset of pairs.
+TEST(OrderByKey, EveryMethodOrdersThePairs) {
+  CpuBackend backend(1);
+  const uint32_t n = 1000, keyCount = 37;
+  std::vector<uint32_t> keys(n), values(n), keysOut(n), valuesOut(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    keys[i] = (i * 7919u) % keyCount;
+    values[i] = i;
+  }
+  keys[5] = keyCount - 1;  // and key 3 appears nowhere, key 36 ...
+  for (uint32_t& k : keys)
+    if (k == 3) k = 4;
+  for (SortMethod method : {SortMethod::kCounting, SortMethod::kRadix,
+                            SortMethod::kRadixFullWidth}) {
+    OrderShape shape{method, 6, keyCount, n};
+    backend.ReserveOrdering(shape);
+    backend.OrderByKey(Stage::kSort, shape,
+                       OrderArrays{keys.data(), values.data(), keysOut.data(), valuesOut.data()});
+    EXPECT_TRUE(std::is_sorted(keysOut.begin(), keysOut.end())) << SortMethodName(method);
+    std::vector<bool> seen(n, false);
+    for (uint32_t i = 0; i < n; ++i) {
+      ASSERT_LT(valuesOut[i], n);
+      EXPECT_FALSE(seen[valuesOut[i]]);
+      seen[valuesOut[i]] = true;
+      EXPECT_EQ(keys[valuesOut[i]], keysOut[i]);
+    }
+    EXPECT_EQ(QueueStart(keysOut.data(), n, 3), QueueStart(keysOut.data(), n, 4));
+    EXPECT_EQ(QueueStart(keysOut.data(), n, keyCount), n);
+    EXPECT_EQ(QueueStart(keysOut.data(), n, 0), 0u);
+  }
+}
+
+}  // namespace
+}  // namespace pt::test
