@@ -31,7 +31,7 @@ RenderResult RenderWith(const Scene& scene, SortMode sort, SortMethod method, To
 }
 
 TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   Scene scene = BuildScene(MaterialZooDesc(dir, 6, 8, 1, 2));
   ShadeKeys k = MakeShadeKeys(scene);
   uint32_t count = uint32_t(scene.desc.materials.size());
@@ -61,7 +61,7 @@ TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
 }
 
 TEST(SortModes, EveryModeAndMethodGivesTheSameImageOnTheZoo) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   Scene scene = BuildScene(MaterialZooDesc(dir, 6, 24, 2, 6));
   RenderResult base = RenderWith(scene, SortMode::kOff, SortMethod::kAuto, Toggle::kOff);
   EXPECT_EQ(base.stats.sortMode, "off");
@@ -91,7 +91,7 @@ TEST(SortModes, EveryModeAndMethodGivesTheSameImageOnTheZoo) {
 // One path in all (a single pixel, one sample); every path on one material (a wall filling
 // the view, no bounce); materials no path reaches (tiles behind the camera).
 TEST(SortModes, QueuesWithOneAllAndNoPathsOfAMaterial) {
-  ScopedTempDir dir;
+  std::string dir = TempDir();
   SceneDesc one = MaterialZooDesc(dir, 4, 1, 1, 3);
   SceneDesc all = MaterialZooDesc(dir, 4, 16, 2, 0);
   all.camera.position = vec3(-1.5f, -1.5f, 0.2f);  // tile 0 (diffuse) fills the view

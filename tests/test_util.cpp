@@ -76,11 +76,6 @@ std::string TempDir() {
   return TestFolders().back()->Path();
 }
 
-ScopedTempDir::~ScopedTempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path, ec);
-}
-
 int RunCommand(const std::string& command, std::string* output) {
   std::string full = command + " 2>&1";
   FILE* pipe = popen(full.c_str(), "r");
