@@ -1,5 +1,7 @@
 // Entry point of the CUDA backend: the generic wavefront integrator over CudaBackend. Only
 // launch plumbing lives here; the stage bodies are src/integrator/stages/.
+#include <cstdlib>
+
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 
@@ -105,7 +107,22 @@ void CudaBackend::OrderByKey(Stage stage, const OrderShape& shape, const OrderAr
   EndStage(stage);
 }
 
+namespace {
+
+// CUDA 12+ loads each kernel lazily at its first launch, which put 40-65 ms of module loading
+// into the first wave's generate stage (measured on an H100, benchmarks/RESULTS.md) and so
+// into every render's time. Loading the whole module when the context is created moves that
+// to start-up, where time_ms.total still counts it. Must run before the first CUDA call; a
+// user's own CUDA_MODULE_LOADING wins.
+void PreferEagerModuleLoading() {
+  static const bool set = setenv("CUDA_MODULE_LOADING", "EAGER", /*overwrite=*/0) == 0;
+  (void)set;
+}
+
+}  // namespace
+
 CudaBackend::CudaBackend(int device) {
+  PreferEagerModuleLoading();
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0)
     throw BackendUnavailable("no CUDA device is available for --backend cuda");
@@ -172,6 +189,7 @@ RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
 bool CudaBackendBuilt() { return true; }
 
 int CudaDeviceCount() {
+  PreferEagerModuleLoading();
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess) return 0;
   return count;

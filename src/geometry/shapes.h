@@ -205,6 +205,9 @@ PT_HDI bool IntersectShape(const SceneView& s, PrimRef ref, const Ray& ray,
 // Every traversal's primitive test: the shape, then, for primitives flagged kHitTestBit only,
 // the material's verdict on the hit (alpha, back-face culling; src/materials/alpha.h). On a
 // rejected hit *tHit and *uv may hold the rejected values; the caller must not use them.
+// kHitTest false compiles the verdict out (a scene none of whose materials asks for one): the
+// test's texture code would otherwise cost every traversal kernel registers.
+template <bool kHitTest = true>
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
                           const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
   // Triangles come from the packed copy in BVH order (three 16-byte loads, no PrimRef first);
@@ -219,19 +222,22 @@ PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray
       if (!IntersectTriangle(Triangle{vec3(a.x, a.y, a.z), vec3(b.x, b.y, b.z), vec3(c.x, c.y, c.z)},
                              ray, rd, tMax, tHit, uv))
         return false;
-      return (tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
+      if constexpr (!kHitTest) return true;
+      else return (tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
     }
 #else
     const PackedTriangle& p = s.packedTriangles[primIndex];
     if (ShapeType(p.tag >> 30) == ShapeType::kTriangle) {
       if (!IntersectTriangle(Triangle{p.p0, p.p1, p.p2}, ray, rd, tMax, tHit, uv)) return false;
-      return (p.tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
+      if constexpr (!kHitTest) return true;
+      else return (p.tag & PrimRef::kHitTestBit) == 0 || AcceptHit(s, s.prims[primIndex], ray, *uv);
     }
 #endif
   }
   PrimRef ref = s.prims[primIndex];
   if (!IntersectShape(s, ref, ray, rd, tMax, tHit, uv)) return false;
-  return !ref.NeedsHitTest() || AcceptHit(s, ref, ray, *uv);
+  if constexpr (!kHitTest) return true;
+  else return !ref.NeedsHitTest() || AcceptHit(s, ref, ray, *uv);
 }
 
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray, float tMax,

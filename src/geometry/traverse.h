@@ -18,9 +18,9 @@
 
 namespace pt {
 
-// Tests s.prims[first, first + count) with IntersectPrim. kClosest keeps the nearest accepted
-// primitive (ties by tagIndex); kAny stops at the first.
-template <TraceMode kMode>
+// Tests s.prims[first, first + count) with IntersectPrim<kHitTest>. kClosest keeps the nearest
+// accepted primitive (ties by tagIndex); kAny stops at the first.
+template <TraceMode kMode, bool kHitTest = true>
 struct PrimLeaf {
   const SceneView& s;
   const Ray& ray;
@@ -39,13 +39,13 @@ struct PrimLeaf {
       float t;
       vec2 hitUv;
       if (kMode == TraceMode::kAny) {
-        if (!IntersectPrim(s, i, ray, triRay, *tMax, &t, &hitUv)) continue;
+        if (!IntersectPrim<kHitTest>(s, i, ray, triRay, *tMax, &t, &hitUv)) continue;
         prim = i;
         return true;
       }
       // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
       float limit = prim == HitRecord::kNoHit ? *tMax : NextFloatUp(*tMax);
-      if (!IntersectPrim(s, i, ray, triRay, limit, &t, &hitUv)) continue;
+      if (!IntersectPrim<kHitTest>(s, i, ray, triRay, limit, &t, &hitUv)) continue;
       if (!(t < *tMax) && !(s.prims[i].tagIndex < s.prims[prim].tagIndex)) continue;
       *tMax = t;
       prim = i;
@@ -71,10 +71,10 @@ PT_HDI void TraverseScene(const SceneView& s, const Ray& ray, float* tMax, LeafF
 // Nearest primitive with 0 < t < tMax. On a hit fills *hit (t, prim index into s.prims, uv as
 // IntersectPrim gives it) and returns true; on a miss sets hit->prim = kNoHit, hit->t = tMax,
 // hit->uv = 0. Counters (may be nullptr) are added to: nodes entered and primitives tested.
-template <BvhLayout L>
+template <BvhLayout L, bool kHitTest = true>
 PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                                TraversalCounters* counters) {
-  PrimLeaf<TraceMode::kClosest> leaf(s, ray);
+  PrimLeaf<TraceMode::kClosest, kHitTest> leaf(s, ray);
   float t = tMax;
   TraverseScene<L, TraceMode::kClosest>(s, ray, &t, leaf, counters);
   if (counters) counters->prims += leaf.tested;
@@ -85,10 +85,10 @@ PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, H
 }
 
 // Whether any primitive has 0 < t < tMax (shadow rays); stops at the first one found.
-template <BvhLayout L>
+template <BvhLayout L, bool kHitTest = true>
 PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
                            TraversalCounters* counters) {
-  PrimLeaf<TraceMode::kAny> leaf(s, ray);
+  PrimLeaf<TraceMode::kAny, kHitTest> leaf(s, ray);
   float t = tMax;
   TraverseScene<L, TraceMode::kAny>(s, ray, &t, leaf, counters);
   if (counters) counters->prims += leaf.tested;
@@ -97,18 +97,19 @@ PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
 
 // The scene's query in layout L, over the two levels when kInstanced (a scene with instances)
 // or the one flat BVH otherwise: each a kernel variant of its own, so a flat scene runs exactly
-// the single-level code.
-template <BvhLayout L, bool kInstanced>
+// the single-level code. kHitTest: whether some material asks for a hit test (alpha, culling);
+// a flat scene without one runs traversal without that code. Instanced scenes always have it.
+template <BvhLayout L, bool kInstanced, bool kHitTest = true>
 PT_HDI bool SceneClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                          TraversalCounters* counters) {
   if constexpr (kInstanced) return IntersectClosestInstanced<L>(s, ray, tMax, hit, counters);
-  else return IntersectClosestIn<L>(s, ray, tMax, hit, counters);
+  else return IntersectClosestIn<L, kHitTest>(s, ray, tMax, hit, counters);
 }
 
-template <BvhLayout L, bool kInstanced>
+template <BvhLayout L, bool kInstanced, bool kHitTest = true>
 PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCounters* counters) {
   if constexpr (kInstanced) return IntersectAnyInstanced<L>(s, ray, tMax, counters);
-  else return IntersectAnyIn<L>(s, ray, tMax, counters);
+  else return IntersectAnyIn<L, kHitTest>(s, ray, tMax, counters);
 }
 
 // The same in the layout and structure the view names (a run-time choice; stages instantiate

@@ -181,24 +181,30 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its sort key when shading is ordered.
   void IntersectClosest(uint32_t n) {
-    ForTraversal([&](auto layout, auto instanced) {
-      IntersectLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    ForTraversal([&](auto layout, auto instanced, auto hitTest) {
+      IntersectLayout<decltype(layout)::value, decltype(instanced)::value,
+                      decltype(hitTest)::value>(n);
     });
   }
 
-  // Calls f(layout, instanced) with the scene's traversal variant as std::integral_constant
-  // values: each variant is a kernel of its own, and a flat scene runs the single-level one.
+  // Calls f(layout, instanced, hitTest) with the scene's traversal variant as
+  // std::integral_constant values: each variant is a kernel of its own, a flat scene runs the
+  // single-level one, and one whose materials ask for no hit test (alpha, culling) runs it
+  // without that code. Instanced scenes always have it (6 variants, not 8).
   template <typename F>
   void ForTraversal(F f) {
     using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
     using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
+    using Yes = std::true_type;
+    using No = std::false_type;
     const SceneView& v = sceneBuffers_.view;
     bool wide = v.bvhLayout == BvhLayout::kWide;
-    if (v.instanceCount != 0) wide ? f(Wide{}, std::true_type{}) : f(Binary{}, std::true_type{});
-    else wide ? f(Wide{}, std::false_type{}) : f(Binary{}, std::false_type{});
+    if (v.instanceCount != 0) wide ? f(Wide{}, Yes{}, Yes{}) : f(Binary{}, Yes{}, Yes{});
+    else if (hitTests_) wide ? f(Wide{}, No{}, Yes{}) : f(Binary{}, No{}, Yes{});
+    else wide ? f(Wide{}, No{}, No{}) : f(Binary{}, No{}, No{});
   }
 
-  template <BvhLayout L, bool kInstanced>
+  template <BvhLayout L, bool kInstanced, bool kHitTest>
   void IntersectLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
@@ -206,7 +212,7 @@ class WavefrontIntegrator {
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath<L, kInstanced>(scene, ps, queue[i], i, keys, counters);
+      IntersectPath<L, kInstanced, kHitTest>(scene, ps, queue[i], i, keys, counters);
     });
   }
 
@@ -221,19 +227,20 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(uint32_t n) {
-    ForTraversal([&](auto layout, auto instanced) {
-      ShadowLayout<decltype(layout)::value, decltype(instanced)::value>(n);
+    ForTraversal([&](auto layout, auto instanced, auto hitTest) {
+      ShadowLayout<decltype(layout)::value, decltype(instanced)::value,
+                   decltype(hitTest)::value>(n);
     });
   }
 
-  template <BvhLayout L, bool kInstanced>
+  template <BvhLayout L, bool kInstanced, bool kHitTest>
   void ShadowLayout(uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
-      TraceShadowRay<L, kInstanced>(scene, ps, queue[i], counters);
+      TraceShadowRay<L, kInstanced, kHitTest>(scene, ps, queue[i], counters);
     });
   }
 
@@ -336,6 +343,7 @@ class WavefrontIntegrator {
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
   bool envMap_ = false;  // the scene has an environment map
+  bool hitTests_ = true;  // some material asks for a hit test (alpha, back-face culling)
   bool stopped_ = false;
   Buffer<Counter> counters_;
 

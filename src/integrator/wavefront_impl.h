@@ -44,6 +44,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   uint32_t effects = AnalyzeEffects(scene_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
+  hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0;
   stats_.specialization = FeatureClassName(featureClass_);
   ApplySortOptions();
   sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
