@@ -60,6 +60,18 @@ TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
             SortMode::kMaterial);
 }
 
+// auto with a single surface queue: a costly one gets its own kernel (queues), a cheap one
+// stays off (nothing separated, nothing specialised worth an ordering pass).
+TEST(SortModes, AutoWithOneSurfaceQueue) {
+  for (uint32_t q = 0; q < kEscapedQueue; ++q) {
+    ShadeKeys k;
+    k.queuesUsed = (1u << q) | (1u << kEscapedQueue);
+    SortChoice c = ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral);
+    EXPECT_EQ(c.mode, CostlyQueue(q) ? SortMode::kQueues : SortMode::kOff) << ShadeQueueName(q);
+    EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral, false).mode, SortMode::kOff);
+  }
+}
+
 TEST(SortModes, EveryModeAndMethodGivesTheSameImageOnTheZoo) {
   std::string dir = TempDir();
   Scene scene = BuildScene(MaterialZooDesc(dir, 6, 24, 2, 6));

@@ -67,13 +67,15 @@ SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass fe
   bool costly = false;
   for (uint32_t q = 0; q < kEscapedQueue; ++q) costly = costly || (keys.Uses(q) && CostlyQueue(q));
   // Ordering costs a pass over the keys per bounce and the queue kernels' launches; it pays
-  // only where neighbouring threads would otherwise run different, costly material code.
-  // Cheap materials (the diffuse and smooth variants) diverge little (issue 11: sorting lost
-  // 0.61x and 0.77x on the Cornell box and the bunny); one material type has nothing to
-  // separate.
+  // where neighbouring threads would otherwise run different, costly material code, and where
+  // a costly queue's own kernel (compiled for its material type alone, fewer registers) beats
+  // the general one: one textured glTF queue measured 1.23x on DamagedHelmet (H100). Cheap
+  // materials (the diffuse and smooth variants) diverge little (issue 11: sorting lost 0.61x
+  // and 0.77x on the Cornell box and the bunny).
   if (featureClass != FeatureClass::kGeneral || !costly)
     return SortChoice{SortMode::kOff, "no costly material (textured, plastic or glTF)"};
-  if (queues < 2) return SortChoice{SortMode::kOff, "one shade queue: nothing to separate"};
+  if (queues < 2)
+    return SortChoice{SortMode::kQueues, "one costly shade queue: its own kernel"};
   return SortChoice{SortMode::kQueues, std::to_string(queues) +
                                            " shade queues, costly materials among them"};
 }
