@@ -1,0 +1,152 @@
+// Moving instances in the live preview: picked through the two-level traversal, re-placed
+// through the top level alone (no scene rebuild), saved as the transform the preview renders.
+// httplib's client on 127.0.0.1 against scenes/instanced_shapes.json on the CPU.
+#include <gtest/gtest.h>
+
+#if defined(PT_HAVE_SERVER)
+#include <cmath>
+#include <vector>
+
+#include "tests/serve_test_util.h"
+
+namespace pt::test {
+namespace {
+
+constexpr const char* kScene = "scenes/instanced_shapes.json";
+constexpr int kSide = 48;
+constexpr int kStep = 2;  // the pick grid: every other pixel
+
+// The pixels of the grid (centres) whose pick names `object`.
+std::vector<std::pair<int, int>> PixelsOf(LiveRender& live, int object) {
+  std::vector<std::pair<int, int>> pixels;
+  for (int y = 0; y < kSide; y += kStep) {
+    for (int x = 0; x < kSide; x += kStep) {
+      if (live.Pick(x + 0.5f, y + 0.5f).object == object) pixels.emplace_back(x, y);
+    }
+  }
+  return pixels;
+}
+
+double MeanX(const std::vector<std::pair<int, int>>& pixels) {
+  double sum = 0.0;
+  for (const auto& p : pixels) sum += p.first;
+  return pixels.empty() ? 0.0 : sum / double(pixels.size());
+}
+
+// Mean absolute difference of two films over the given pixels.
+double MeanDifference(const FilmImage& a, const FilmImage& b,
+                      const std::vector<std::pair<int, int>>& pixels) {
+  double sum = 0.0;
+  for (const auto& [x, y] : pixels) {
+    size_t i = (size_t(y) * size_t(a.width) + size_t(x)) * 3;
+    for (int c = 0; c < 3; ++c) sum += std::fabs(double(a.rgb[i + c]) - double(b.rgb[i + c]));
+  }
+  return pixels.empty() ? 0.0 : sum / double(pixels.size());
+}
+
+bool Contains(const std::vector<std::pair<int, int>>& pixels, std::pair<int, int> p) {
+  return std::find(pixels.begin(), pixels.end(), p) != pixels.end();
+}
+
+TEST(ServeInstances, PickNamesTheInstanceObjectAndTheWorldsOwn) {
+  Served s(1, &MakeCpuSession, kSide, kScene);
+  s.WaitFrame(0, 1);
+  Json scene = s.GetJson("/api/scene");
+  ASSERT_EQ(scene["objects"][3]["type"], "instance");
+  EXPECT_EQ(scene["objects"][3]["mesh"], "shapes");
+  // Each placed instance is seen somewhere (the mirrored one and the small lamps included),
+  // and so are the world's own quads (the floor, object 0, and the back wall, object 1).
+  for (int object : {0, 1, 3, 4, 5}) {
+    EXPECT_FALSE(PixelsOf(s.Live(), object).empty()) << "object " << object;
+  }
+  std::vector<std::pair<int, int>> red = PixelsOf(s.Live(), 4);
+  ASSERT_FALSE(red.empty());
+  Json hit = s.PostJson("/api/pick", Json{{"x", red[0].first + 0.5}, {"y", red[0].second + 0.5}}.dump());
+  EXPECT_EQ(hit["object"], 4) << hit.dump();
+  // The instance's material override ("red", material 1) is what the pixel sees.
+  EXPECT_EQ(hit["material"], 1) << hit.dump();
+}
+
+TEST(ServeInstances, MovingAnInstanceRebuildsTheTopLevelOnly) {
+  Served s(2, &MakeCpuSession, kSide, kScene);
+  Served::Frame first = s.WaitFrame(0, 2);
+  std::shared_ptr<const FilmImage> before = s.Live().LatestImage();
+  ASSERT_TRUE(before);
+  std::vector<std::pair<int, int>> was = PixelsOf(s.Live(), 3);
+  ASSERT_GT(was.size(), 4u);
+  Json hit = s.PostJson("/api/pick", Json{{"x", was[0].first + 0.5}, {"y", was[0].second + 0.5}}.dump());
+  ASSERT_EQ(hit["object"], 3) << hit.dump();
+
+  // To the left (the camera looks down -z): world x -0.5.
+  Json g = s.PostJson("/api/objects/3/move", R"({"translate": [-0.5, 0, 0]})");
+  ASSERT_TRUE(g.contains("generation")) << g.dump();
+  s.WaitFrame(g["generation"], 2);
+  std::shared_ptr<const FilmImage> after = s.Live().LatestImage();
+  ASSERT_TRUE(after);
+  Json stats = s.GetJson("/api/stats");
+  EXPECT_EQ(stats["rebuilds"]["top_level"], 1) << stats.dump();
+  EXPECT_EQ(stats["rebuilds"]["scene"], 0) << stats.dump();
+  EXPECT_GE(stats["rebuilds"]["last_ms"].get<double>(), 0.0);
+
+  // The instance is seen further left, and the pixels it left show something else now.
+  std::vector<std::pair<int, int>> now = PixelsOf(s.Live(), 3);
+  ASSERT_FALSE(now.empty());
+  EXPECT_LT(MeanX(now), MeanX(was) - 2.0);
+  std::vector<std::pair<int, int>> left, arrived;
+  for (const auto& p : was) if (!Contains(now, p)) left.push_back(p);
+  for (const auto& p : now) if (!Contains(was, p)) arrived.push_back(p);
+  ASSERT_FALSE(left.empty());
+  ASSERT_FALSE(arrived.empty());
+  EXPECT_GT(MeanDifference(*before, *after, left), 0.02);
+  EXPECT_GT(MeanDifference(*before, *after, arrived), 0.02);
+  EXPECT_NE(first.jpeg, s.WaitFrame(g["generation"], 2).jpeg);
+
+  // The saved scene holds the composed transform: translate x -0.4 - 0.5, the rest unchanged.
+  Json doc = Json::parse(s.Client().Get("/api/scene.json")->body, nullptr, false);
+  ASSERT_FALSE(doc.is_discarded());
+  const Json& t = doc["objects"][3]["transform"];
+  EXPECT_NEAR(t["translate"][0].get<double>(), -0.9, 1e-6);
+  EXPECT_NEAR(t["translate"][1].get<double>(), 0.2, 1e-6);
+  EXPECT_EQ(t["rotate"], Json::array({0, 35, 10}));
+
+  // A quad (object 2, the lamp) still moves by a scene rebuild.
+  g = s.PostJson("/api/objects/2/move", R"({"translate": [0, -0.1, 0]})");
+  s.WaitFrame(g["generation"], 1);
+  stats = s.GetJson("/api/stats");
+  EXPECT_EQ(stats["rebuilds"]["scene"], 1) << stats.dump();
+  EXPECT_EQ(stats["rebuilds"]["top_level"], 1) << stats.dump();
+}
+
+TEST(ServeInstances, AnInstanceMoveTheLoaderRefusesIsAnswered422) {
+  Served s(1, &MakeCpuSession, kSide, kScene);
+  s.WaitFrame(0, 1);
+  // Float-finite alone, but their sum is not: the loader's transform check refuses it.
+  Json g = s.PostJson("/api/objects/4/move", R"({"translate": [3e38, 0, 0]})");
+  Json refused = s.PostJson("/api/objects/4/move", R"({"translate": [3e38, 0, 0]})", 422);
+  EXPECT_NE(refused.dump().find("objects[4].transform"), std::string::npos) << refused.dump();
+  Json doc = Json::parse(s.Client().Get("/api/scene.json")->body, nullptr, false);
+  EXPECT_NEAR(doc["objects"][4]["transform"]["translate"][0].get<double>(), 3e38, 1e32);
+  s.PostJson("/api/objects/4/move", R"({"translate": [1, 0]})", 400);
+  s.PostJson("/api/objects/8/move", R"({"translate": [1, 0, 0]})", 404);
+  s.WaitFrame(g["generation"], 1);  // the preview renders on
+}
+
+TEST(ServeInstances, TheSavedSceneRendersWhatThePreviewShows) {
+  // Instance moves alone: the top-level path.
+  ExpectSavedSceneRendersTheShownFilm(
+      {{"/api/objects/3/move", R"({"translate": [-0.3, 0.1, 0.2]})"},
+       {"/api/objects/7/move", R"({"translate": [0.2, -0.4, 0]})"},  // a lamp instance
+       {"/api/objects/3/move", R"({"translate": [0.1, 0, 0]})"}},
+      IntegratorMode::kMis, kScene);
+  // With a material edit and a quad's move (the full rebuild) in between.
+  ExpectSavedSceneRendersTheShownFilm(
+      {{"/api/objects/5/move", R"({"translate": [0, 0.2, -0.1]})"},
+       {"/api/materials/1", R"({"albedo": [0.2, 0.7, 0.3]})"},
+       {"/api/objects/1/move", R"({"translate": [0, 0, -0.2]})"},
+       {"/api/objects/4/move", R"({"translate": [-0.2, 0, 0]})"}},
+      IntegratorMode::kNee, kScene);
+}
+
+}  // namespace
+}  // namespace pt::test
+#endif
