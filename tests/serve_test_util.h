@@ -108,6 +108,7 @@ class Served {
 inline void ExpectSavedSceneRendersTheShownFilm(
     const std::vector<std::pair<std::string, std::string>>& edits, IntegratorMode integrator,
     const std::string& scene = "scenes/cornell_box.json") {
+  SCOPED_TRACE(scene + ", first edit " + (edits.empty() ? "none" : edits[0].first + " " + edits[0].second));
   Served s(3, &MakeCpuSession, 48, scene);
   s.WaitFrame(0, 1);
   Json g;
