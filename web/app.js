@@ -151,6 +151,11 @@ async function refreshStats() {
   $('s-backend').textContent = s.device ? `${s.backend} (${s.device})` : `${s.backend}, ${s.threads} threads`;
   $('s-variant').textContent = s.specialization;
   $('s-used').textContent = `${s.compact_used ? 'on' : 'off'} / ${s.sort_used ? 'on' : 'off'}`;
+  if (s.rebuilds) {  // what object moves cost: instances re-place through the top level alone
+    const r = s.rebuilds;
+    $('s-rebuilds').textContent = `${r.scene} / ${r.top_level}` +
+        (r.scene + r.top_level > 0 ? ` (last ${r.last_ms.toFixed(1)} ms)` : '');
+  }
   const stages = $('stages');
   const entries = Object.entries(s.stage_ms);
   const most = Math.max(1e-9, ...entries.map(([, ms]) => ms));
