@@ -2,8 +2,6 @@
 // and compare images statistically with tolerances derived from the film's own variance.
 #pragma once
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
