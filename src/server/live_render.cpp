@@ -230,33 +230,13 @@ bool LiveRender::ApplyEdits() {
   if (!p->restart) return false;
   {
     std::unique_lock<std::shared_mutex> lock(sceneMutex_);
-    SceneDesc& desc = scene_.desc;
-    auto t0 = Clock::now();
-    for (const auto& [index, toWorld] : p->placements) {
-      UpdateInstanceTransform(scene_, index, toWorld);
-    }
-    for (const auto& [index, moved] : p->moves) objects_.Place(index, moved, desc);
-    for (const auto& [index, material] : p->materials) desc.materials[index] = material;
-    if (p->maxDepth) desc.render.maxDepth = *p->maxDepth;
+    if (p->maxDepth) scene_.desc.render.maxDepth = *p->maxDepth;
     if (p->options) options_ = *p->options;
-    if (!p->moves.empty()) {
-      scene_ = BuildScene(std::move(scene_.desc));
-      session_->SceneChanged();
-      ++sceneRebuilds_;
-    } else {
-      if (!p->placements.empty()) RebuildTopLevel(scene_);
-      if (!p->materials.empty()) BuildLightTable(scene_);  // after the top level: its bounds
-      if (!p->placements.empty()) {
-        session_->TopLevelChanged();
-        ++topLevelRebuilds_;
-      }
-      if (!p->materials.empty()) session_->MaterialsChanged();
-    }
-    if (!p->moves.empty() || !p->placements.empty()) lastRebuildMs_ = MsBetween(t0, Clock::now());
+    ApplySceneEdits(*p);
     if (p->options || p->maxDepth) session_->SetOptions(options_);
     if (p->camera) {
       camera_ = MakeCamera(*p->camera, width_, height_);
-      desc.camera = *p->camera;
+      scene_.desc.camera = *p->camera;
       session_->SetCamera(camera_);
     }
     session_->ResetFilm();
@@ -267,6 +247,29 @@ bool LiveRender::ApplyEdits() {
   editReceived_ = p->firstReceived;
   generationStart_ = lastPassEnd_ = session_->Stats();
   return true;
+}
+
+// Moves and materials, by the cheapest update that covers them: instance moves alone re-place
+// through the top level, any other move rebuilds the scene.
+void LiveRender::ApplySceneEdits(const Pending& p) {
+  auto t0 = Clock::now();
+  for (const auto& [index, toWorld] : p.placements) UpdateInstanceTransform(scene_, index, toWorld);
+  for (const auto& [index, moved] : p.moves) objects_.Place(index, moved, scene_.desc);
+  for (const auto& [index, material] : p.materials) scene_.desc.materials[index] = material;
+  if (!p.moves.empty()) {
+    scene_ = BuildScene(std::move(scene_.desc));
+    session_->SceneChanged();
+    ++sceneRebuilds_;
+  } else {
+    if (!p.placements.empty()) RebuildTopLevel(scene_);
+    if (!p.materials.empty()) BuildLightTable(scene_);  // after the top level: its bounds
+    if (!p.placements.empty()) {
+      session_->TopLevelChanged();
+      ++topLevelRebuilds_;
+    }
+    if (!p.materials.empty()) session_->MaterialsChanged();
+  }
+  if (!p.moves.empty() || !p.placements.empty()) lastRebuildMs_ = MsBetween(t0, Clock::now());
 }
 
 void LiveRender::RenderPass() {

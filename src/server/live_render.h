@@ -102,6 +102,7 @@ class LiveRender {
   uint64_t Queue(const std::function<void(Pending&)>& edit);
   void RenderLoop();
   bool ApplyEdits();
+  void ApplySceneEdits(const Pending& p);  // under an exclusive sceneMutex_
   void RenderPass();
   void Publish(const std::string& statsJson);
   void EncodeLoop();
