@@ -6,9 +6,11 @@
 #if defined(PT_HAVE_SERVER)
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <utility>
 #include <vector>
 
+#include "tests/gltf_scene_writer.h"
 #include "tests/serve_test_util.h"
 
 namespace pt::test {
@@ -151,6 +153,60 @@ TEST(ServeInstances, TheSavedSceneRendersWhatThePreviewShows) {
        {"/api/objects/4/move", R"({"translate": [-0.2, 0, 0]})"},
        {"/api/options", R"({"integrator": "nee"})"}},
       IntegratorMode::kNee, kScene);
+}
+
+// A mesh object whose glTF file uses one mesh from two nodes: the loader stores the mesh once
+// and places it twice (instances of the mesh object, not instance objects). A hit in either
+// placement names the mesh object; moving it rebuilds the scene with both placements moved.
+class TwoPlacementsScene {
+ public:
+  TwoPlacementsScene() {
+    GltfSceneWriter gltf;
+    int square = gltf.AddMesh({vec3(-0.4f, -0.4f, 0.0f), vec3(0.4f, -0.4f, 0.0f),
+                               vec3(0.4f, 0.4f, 0.0f), vec3(-0.4f, 0.4f, 0.0f)},
+                              {0, 1, 2, 0, 2, 3});
+    gltf.AddNode({{"mesh", square}, {"translation", {-0.6, 0.0, 0.0}}});
+    gltf.AddNode({{"mesh", square}, {"translation", {0.6, 0.0, 0.0}}});
+    gltf.Write(folder_.Path(), "twice", true);
+    path_ = folder_.Path() + "/twice.json";
+    std::ofstream(path_) << R"({
+      "format": 1,
+      "render": {"width": 48, "height": 48, "spp": 4, "max_depth": 3},
+      "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_y": 40},
+      "background": [0.3, 0.3, 0.3],
+      "materials": {"white": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
+                    "lamp": {"type": "emissive", "radiance": [4, 4, 4]}},
+      "objects": [
+        {"type": "quad", "origin": [-1, 1.5, -1], "u": [2, 0, 0], "v": [0, 0, 2], "material": "lamp"},
+        {"type": "mesh", "file": "twice.glb", "material": "white"}]})";
+  }
+  const std::string& Path() const { return path_; }
+
+ private:
+  TempFolder folder_;
+  std::string path_;
+};
+
+TEST(ServeInstances, AMeshFilesOwnPlacementsNameAndMoveTheirObject) {
+  TwoPlacementsScene scene;
+  ASSERT_EQ(LoadScene(scene.Path()).instances.size(), 2u);  // the file's reuse, as instances
+  {
+    Served s(1, &MakeCpuSession, kSide, scene.Path());
+    s.WaitFrame(0, 1);
+    // The squares' centres: x = -0.6 and 0.6 at y = 0 (pixels 11 and 37 of row 24).
+    EXPECT_EQ(s.Live().Pick(11.5f, 24.5f).object, 1);
+    EXPECT_EQ(s.Live().Pick(36.5f, 24.5f).object, 1);
+    EXPECT_EQ(s.Live().Pick(24.5f, 24.5f).object, -1);  // between them: the background
+    Json g = s.PostJson("/api/objects/1/move", R"({"translate": [0, 0.5, 0]})");
+    s.WaitFrame(g["generation"], 1);
+    EXPECT_EQ(s.GetJson("/api/stats")["rebuilds"]["scene"], 1);
+    for (float x : {11.5f, 36.5f}) {  // both placements went up by 11 pixels
+      EXPECT_EQ(s.Live().Pick(x, 24.5f).object, -1) << x;
+      EXPECT_EQ(s.Live().Pick(x, 13.5f).object, 1) << x;
+    }
+  }
+  ExpectSavedSceneRendersTheShownFilm({{"/api/objects/1/move", R"({"translate": [0.1, 0.3, 0]})"}},
+                                      IntegratorMode::kMis, scene.Path());
 }
 
 }  // namespace

@@ -24,14 +24,14 @@ namespace pt::test {
 
 using Clock = std::chrono::steady_clock;
 
-// A served scene of the repository (the Cornell box unless named), side x side at `spp`
-// samples, on two CPU threads (or the session `make` makes), with the server on a free port of
-// 127.0.0.1 and a client of it.
+// A served scene (of the repository unless an absolute path; the Cornell box unless named),
+// side x side at `spp` samples, on two CPU threads (or the session `make` makes), with the
+// server on a free port of 127.0.0.1 and a client of it.
 class Served {
  public:
   explicit Served(int spp, MakeSessionFn make = &MakeCpuSession, int side = 48,
                   const std::string& scene = "scenes/cornell_box.json") {
-    std::string path = SourcePath(scene);
+    std::string path = scene.rfind('/', 0) == 0 ? scene : SourcePath(scene);
     SceneDesc desc = LoadScene(path);
     desc.render.width = side;
     desc.render.height = side;
