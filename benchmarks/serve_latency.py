@@ -87,7 +87,8 @@ def main():
         for i in range(args.edits):
             sign = 1 if i % 2 == 0 else -1
             if args.move_object is not None:
-                path, edit = f"/api/objects/{args.move_object}/move", {"translate": [0.05 * sign, 0, 0]}
+                path = f"/api/objects/{args.move_object}/move"
+                edit = {"translate": [0.05 * sign, 0, 0]}
             else:
                 # A small orbit: the eye moves sideways around the look-at point.
                 p, t = camera["position"], camera["look_at"]
@@ -146,7 +147,8 @@ def main():
         }
         print(f"{args.scene} {args.width}x{args.height} on {result['backend']} ({result['device']})")
         print(f"  edit -> first frame (client): median {result['edit_to_frame_ms_median']:.1f} ms, "
-              f"p90 {result['edit_to_frame_ms_p90']:.1f} ms over {args.edits} edits ({result['edit']}) "
+              f"p90 {result['edit_to_frame_ms_p90']:.1f} ms over {args.edits} edits "
+              f"({result['edit']}) "
               f"(first frame at {result['first_frame_spp_median']:.0f} spp)")
         if server_ms:
             print(f"  edit -> frame encoded (server): median {result['server_edit_to_frame_ms_median']:.1f} ms")

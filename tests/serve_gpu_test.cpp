@@ -1,5 +1,6 @@
 // The live preview on the CUDA backend: it converges, a camera edit restarts the film and its
-// first frame comes, the flags switch live, and instances move through the top level. Skips without a GPU or without the server.
+// first frame comes, the flags switch live, and instances move through the top level. Skips
+// without a GPU or without the server.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -20,6 +20,11 @@ constexpr const char* kScene = "scenes/instanced_shapes.json";
 constexpr int kSide = 48;
 constexpr int kStep = 2;  // the pick grid: every other pixel
 
+// Picks pixel (x, y)'s centre through the API.
+Json PickThroughApi(Served& s, std::pair<int, int> pixel) {
+  return s.PostJson("/api/pick", Json{{"x", pixel.first + 0.5}, {"y", pixel.second + 0.5}}.dump());
+}
+
 // The pixels of the grid (centres) whose pick names `object`.
 std::vector<std::pair<int, int>> PixelsOf(LiveRender& live, int object) {
   std::vector<std::pair<int, int>> pixels;
@@ -65,7 +70,7 @@ TEST(ServeInstances, PickNamesTheInstanceObjectAndTheWorldsOwn) {
   }
   std::vector<std::pair<int, int>> red = PixelsOf(s.Live(), 4);
   ASSERT_FALSE(red.empty());
-  Json hit = s.PostJson("/api/pick", Json{{"x", red[0].first + 0.5}, {"y", red[0].second + 0.5}}.dump());
+  Json hit = PickThroughApi(s, red[0]);
   EXPECT_EQ(hit["object"], 4) << hit.dump();
   // The instance's material override ("red", material 1) is what the pixel sees.
   EXPECT_EQ(hit["material"], 1) << hit.dump();
@@ -78,7 +83,7 @@ TEST(ServeInstances, MovingAnInstanceRebuildsTheTopLevelOnly) {
   ASSERT_TRUE(before);
   std::vector<std::pair<int, int>> was = PixelsOf(s.Live(), 3);
   ASSERT_GT(was.size(), 4u);
-  Json hit = s.PostJson("/api/pick", Json{{"x", was[0].first + 0.5}, {"y", was[0].second + 0.5}}.dump());
+  Json hit = PickThroughApi(s, was[0]);
   ASSERT_EQ(hit["object"], 3) << hit.dump();
 
   // To the left (the camera looks down -z): world x -0.5.
@@ -177,7 +182,8 @@ class TwoPlacementsScene {
       "materials": {"white": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
                     "lamp": {"type": "emissive", "radiance": [4, 4, 4]}},
       "objects": [
-        {"type": "quad", "origin": [-1, 1.5, -1], "u": [2, 0, 0], "v": [0, 0, 2], "material": "lamp"},
+        {"type": "quad", "origin": [-1, 1.5, -1], "u": [2, 0, 0], "v": [0, 0, 2],
+         "material": "lamp"},
         {"type": "mesh", "file": "twice.glb", "material": "white"}]})";
   }
   const std::string& Path() const { return path_; }
