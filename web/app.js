@@ -321,6 +321,10 @@ function numberInput(value, onChange) {
   return input;
 }
 
+// Material edits go out one at a time, in order: requests in flight together may be applied in
+// any order, and an older value (of a vector edited component by component) could win.
+let materialEdits = Promise.resolve();
+
 // One input per editable field of the material as the scene file has it: numbers, and
 // colours or vectors of 3 numbers; other fields (type, texture files) are shown, not edited.
 function buildMaterialForm(form, index, fields) {
@@ -331,7 +335,11 @@ function buildMaterialForm(form, index, fields) {
   for (const [key, value] of Object.entries(fields)) {
     const label = document.createElement('label');
     label.append(key);
-    const send = (v) => edit(`/api/materials/${index}`, { [key]: v }).then(() => refreshMaterials());
+    const send = (v) => {
+      materialEdits = materialEdits.then(() => edit(`/api/materials/${index}`, { [key]: v }))
+        .then(() => refreshMaterials()).catch(() => {});  // a failure must not stop later edits
+      return materialEdits;
+    };
     if (typeof value === 'number') {
       const input = numberInput(value, () => send(Number(input.value)));
       input.name = key;
