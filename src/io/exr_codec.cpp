@@ -110,15 +110,22 @@ ExrFile::ExrFile(const std::string& path) : path_(path) {
   if (version.multipart || version.non_image) {
     throw ImageError(path + ": multi-part and deep EXR files are not supported");
   }
+  // The status first, then err: as two arguments of one call their order is unspecified, and
+  // err read before the call was null (the message lost, the string leaked).
   const char* err = nullptr;
-  Check(ParseEXRHeaderFromFile(&header_, &version, path.c_str(), &err), err);
+  int status = ParseEXRHeaderFromFile(&header_, &version, path.c_str(), &err);
+  if (status != TINYEXR_SUCCESS) FreeEXRHeader(&header_);  // tinyexr fills it even on failure
+  Check(status, err);
   headerParsed_ = true;
   for (int i = 0; i < header_.num_channels; ++i) {
     if (header_.pixel_types[i] == TINYEXR_PIXELTYPE_HALF) {
       header_.requested_pixel_types[i] = TINYEXR_PIXELTYPE_FLOAT;
     }
   }
-  Check(LoadEXRImageFromFile(&image_, &header_, path.c_str(), &err), err);
+  err = nullptr;
+  status = LoadEXRImageFromFile(&image_, &header_, path.c_str(), &err);
+  if (status != TINYEXR_SUCCESS) FreeEXRHeader(&header_);  // a throwing constructor: no destructor
+  Check(status, err);
   imageLoaded_ = true;
 }
 
