@@ -83,7 +83,7 @@ fi
 # Not in the default STEPS: STEPS=serve runs it alone (about half a minute).
 if [[ " $STEPS " == *" serve "* ]]; then
   step "live preview (--serve): GPU API test, edit-to-frame latency and frame rate at 1080p"
-  "$BIN/pt_tests" --gtest_filter='ServeGpu.*:ServeApi.*' --gtest_brief=1 2>&1 | tail -5
+  "$BIN/pt_tests" --gtest_filter='ServeGpu.*:ServeApi.*:ServeInstances.*' --gtest_brief=1 2>&1 | tail -5
   for size in "1920 1080" "512 512"; do
     set -- $size
     python3 benchmarks/serve_latency.py --pathtracer "$BIN/pathtracer" --backend cuda \

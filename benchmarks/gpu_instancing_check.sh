@@ -2,7 +2,8 @@
 # GPU check of instancing, run on the GPU machine from the repository root after
 # tools/pack_device.sh (the device tool carries .device/): the instancing GPU test, the
 # instanced scene under compute-sanitizer, and the 10^4-bunny field rendered in both layouts
-# (time, peak RSS, peak device memory from the stats). Output goes to $OUT (or out/).
+# (time, peak RSS, peak device memory from the stats), and instance moves in the live preview.
+# Output goes to $OUT (or out/).
 set -uo pipefail
 OUT="${OUT:-out}"
 mkdir -p "$OUT"
@@ -31,3 +32,11 @@ for bvh in binary wide; do
     --bvh "$bvh" --stats-json "$OUT/bunny_field_$bvh.json" 2>&1 | tail -3
 done
 "$BIN/instance_bench" benchmarks/scenes/bunny_field_10k.json --bvh wide --moves 1 --repeats 20
+
+echo "=== live preview, 1080p: moving a bunny (top-level rebuild) against moving the floor (scene rebuild)"
+for object in 500 0; do
+  python3 benchmarks/serve_latency.py --pathtracer "$BIN/pathtracer" --backend cuda \
+    --scene benchmarks/scenes/bunny_field_10k.json --width 1920 --height 1080 --edits 20 \
+    --seconds 3 --move-object "$object" --json "$OUT/serve_move_object_$object.json"
+done
+"$BIN/pt_tests" --gtest_filter='ServeGpu.*:ServeInstances.*' --gtest_brief=1 2>&1 | tail -5

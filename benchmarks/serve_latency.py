@@ -6,11 +6,15 @@ then sends N camera edits (a small orbit each), one at a time: for each, the tim
 the POST to receiving the first frame of its generation (the long poll /api/frame), and the
 server's own edit_to_frame_ms. Then it lets the render run for --seconds and counts frames and
 samples per second. Prints one summary line per quantity (median, p90) and, with --json, writes
-them. Standard library only.
+them. With --move-object N the edits move object N instead (by +-0.05 in x): an instance takes
+the top-level path, any other object a scene rebuild; the server's rebuild time is reported.
+Standard library only.
 
   python3 benchmarks/serve_latency.py --pathtracer build/pathtracer --scene scenes/cornell_box.json \
       --width 512 --height 512 --backend cpu
   # GPU, 1080p (the lead's run): --backend cuda --width 1920 --height 1080
+  # Instance moves in the 10^4-bunny field (benchmarks/scenes/make_bunny_field.py):
+  #   --scene benchmarks/scenes/bunny_field_10k.json --move-object 500 (a quad: --move-object 0)
 """
 import argparse
 import http.client
@@ -59,6 +63,7 @@ def main():
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--edits", type=int, default=20)
     ap.add_argument("--seconds", type=float, default=5.0)
+    ap.add_argument("--move-object", type=int, help="edits move this object, not the camera")
     ap.add_argument("--json", help="write the results here")
     args = ap.parse_args()
 
@@ -78,16 +83,24 @@ def main():
         _, _, scene = client.request("GET", "/api/scene")
         camera = json.loads(scene)["camera"]
         last = client.frame(0)
-        latencies, server_ms, first_spp = [], [], []
+        latencies, server_ms, first_spp, rebuild_ms = [], [], [], []
         for i in range(args.edits):
-            # A small orbit: the eye moves sideways around the look-at point.
-            angle = 0.02 * (1 if i % 2 == 0 else -1)
-            p, t = camera["position"], camera["look_at"]
-            dx, dz = p[0] - t[0], p[2] - t[2]
-            c, s = math.cos(angle), math.sin(angle)
-            camera["position"] = [t[0] + c * dx + s * dz, p[1], t[2] - s * dx + c * dz]
+            sign = 1 if i % 2 == 0 else -1
+            if args.move_object is not None:
+                path = f"/api/objects/{args.move_object}/move"
+                edit = {"translate": [0.05 * sign, 0, 0]}
+            else:
+                # A small orbit: the eye moves sideways around the look-at point.
+                p, t = camera["position"], camera["look_at"]
+                dx, dz = p[0] - t[0], p[2] - t[2]
+                c, s = math.cos(0.02 * sign), math.sin(0.02 * sign)
+                camera["position"] = [t[0] + c * dx + s * dz, p[1], t[2] - s * dx + c * dz]
+                path, edit = "/api/camera", {"position": camera["position"]}
             sent = time.perf_counter()
-            _, _, body = client.request("POST", "/api/camera", {"position": camera["position"]})
+            status, _, body = client.request("POST", path, edit)
+            if status != 200:
+                print(f"POST {path}: {status} {body.decode()}", file=sys.stderr)
+                return 1
             generation = json.loads(body)["generation"]
             while True:
                 f = client.frame(last["id"])
@@ -102,6 +115,8 @@ def main():
             stats = json.loads(stats)
             if "edit_to_frame_ms" in stats and stats["generation"] == generation:
                 server_ms.append(stats["edit_to_frame_ms"])
+            if args.move_object is not None and "rebuilds" in stats:
+                rebuild_ms.append(stats["rebuilds"]["last_ms"])
         # Steady state: frames and samples per second with no edits.
         start = time.perf_counter()
         first = last
@@ -117,7 +132,8 @@ def main():
         result = {
             "scene": args.scene, "width": args.width, "height": args.height,
             "backend": stats.get("backend"), "device": stats.get("device"),
-            "edits": args.edits,
+            "edits": args.edits, "edit": "camera" if args.move_object is None
+            else f"move object {args.move_object}",
             "edit_to_frame_ms_median": statistics.median(latencies),
             "edit_to_frame_ms_p90": percentile(latencies, 90),
             "server_edit_to_frame_ms_median": statistics.median(server_ms) if server_ms else None,
@@ -126,13 +142,20 @@ def main():
             "spp_per_s": (last["spp"] - first["spp"]) / elapsed,
             "samples_per_s": stats.get("samples_per_s"),
             "rays_per_s": stats.get("rays_per_s"),
+            "rebuilds": stats.get("rebuilds"),
+            "rebuild_ms_median": statistics.median(rebuild_ms) if rebuild_ms else None,
         }
         print(f"{args.scene} {args.width}x{args.height} on {result['backend']} ({result['device']})")
         print(f"  edit -> first frame (client): median {result['edit_to_frame_ms_median']:.1f} ms, "
-              f"p90 {result['edit_to_frame_ms_p90']:.1f} ms over {args.edits} camera edits "
+              f"p90 {result['edit_to_frame_ms_p90']:.1f} ms over {args.edits} edits "
+              f"({result['edit']}) "
               f"(first frame at {result['first_frame_spp_median']:.0f} spp)")
         if server_ms:
             print(f"  edit -> frame encoded (server): median {result['server_edit_to_frame_ms_median']:.1f} ms")
+        if rebuild_ms:
+            r = result["rebuilds"]
+            print(f"  rebuild per move: median {result['rebuild_ms_median']:.1f} ms "
+                  f"({r['scene']} scene rebuilds, {r['top_level']} top-level rebuilds)")
         print(f"  steady: {result['frames_per_s']:.1f} frames/s, {result['spp_per_s']:.1f} spp/s, "
               f"{result['samples_per_s'] / 1e6:.2f} M samples/s, {result['rays_per_s'] / 1e6:.2f} M rays/s")
         if args.json:

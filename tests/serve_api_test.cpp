@@ -87,29 +87,7 @@ TEST(ServeApi, PickMoveAndSaveTheEditedScene) {
   s.PostJson("/api/objects/x/move", R"({"translate": [1, 0, 0]})", 404);
 }
 
-// The saved scene is what the preview rendered: on the CPU, the same film bit for bit, after
-// each kind of edit (one with a scene rebuild, one of the render settings alone).
-void ExpectSavedSceneRendersTheShownFilm(const std::vector<std::pair<std::string, std::string>>& edits,
-                                         IntegratorMode integrator) {
-  Served s(3);
-  s.WaitFrame(0, 1);
-  Json g;
-  for (const auto& [path, body] : edits) g = s.PostJson(path, body);
-  s.WaitFrame(g["generation"], 3);
-  std::shared_ptr<const FilmImage> shown = s.Live().LatestImage();
-  ASSERT_TRUE(shown);
-  std::string path = TempDir() + "/edited.json";
-  WriteFileAtomic(path, s.Client().Get("/api/scene.json")->body);
-  Scene edited = BuildScene(LoadScene(path));
-  std::remove(path.c_str());
-  RenderOptions options;
-  options.threads = 2;
-  options.integrator = integrator;
-  RenderResult again = RenderCpu(edited, options);
-  ASSERT_EQ(again.image.rgb.size(), shown->rgb.size());
-  EXPECT_EQ(std::memcmp(again.image.rgb.data(), shown->rgb.data(), shown->rgb.size() * sizeof(float)), 0);
-}
-
+// After each kind of edit (one with a scene rebuild, one of the render settings alone).
 TEST(ServeApi, TheSavedSceneRendersWhatThePreviewShows) {
   ExpectSavedSceneRendersTheShownFilm(
       {{"/api/camera", R"({"fov_y": 33, "position": [0.2, 1.1, 3.7]})"},

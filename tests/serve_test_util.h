@@ -6,9 +6,15 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "src/integrator/render_api.h"
+#include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/server/http_server.h"
 #include "src/server/live_render.h"
@@ -18,12 +24,14 @@ namespace pt::test {
 
 using Clock = std::chrono::steady_clock;
 
-// A served Cornell box, 48x48 at `spp` samples, on two CPU threads (or the session `make`
-// makes), with the server on a free port of 127.0.0.1 and a client of it.
+// A served scene (of the repository unless an absolute path; the Cornell box unless named),
+// side x side at `spp` samples, on two CPU threads (or the session `make` makes), with the
+// server on a free port of 127.0.0.1 and a client of it.
 class Served {
  public:
-  explicit Served(int spp, MakeSessionFn make = &MakeCpuSession, int side = 48) {
-    std::string path = SourcePath("scenes/cornell_box.json");
+  explicit Served(int spp, MakeSessionFn make = &MakeCpuSession, int side = 48,
+                  const std::string& scene = "scenes/cornell_box.json") {
+    std::string path = scene.rfind('/', 0) == 0 ? scene : SourcePath(scene);
     SceneDesc desc = LoadScene(path);
     desc.render.width = side;
     desc.render.height = side;
@@ -94,6 +102,31 @@ class Served {
   std::unique_ptr<HttpServer> server_;
   std::unique_ptr<httplib::Client> client_;
 };
+
+// The saved scene is what the preview rendered: after the edits (POSTs of path and body), the
+// CPU renders the scene /api/scene.json saves to the very film the preview shows, bit for bit.
+inline void ExpectSavedSceneRendersTheShownFilm(
+    const std::vector<std::pair<std::string, std::string>>& edits, IntegratorMode integrator,
+    const std::string& scene = "scenes/cornell_box.json") {
+  SCOPED_TRACE(scene + ", first edit " + (edits.empty() ? "none" : edits[0].first + " " + edits[0].second));
+  Served s(3, &MakeCpuSession, 48, scene);
+  s.WaitFrame(0, 1);
+  Json g;
+  for (const auto& [path, body] : edits) g = s.PostJson(path, body);
+  s.WaitFrame(g["generation"], 3);
+  std::shared_ptr<const FilmImage> shown = s.Live().LatestImage();
+  ASSERT_TRUE(shown);
+  std::string path = TempDir() + "/edited.json";
+  WriteFileAtomic(path, s.Client().Get("/api/scene.json")->body);
+  Scene edited = BuildScene(LoadScene(path));
+  std::remove(path.c_str());
+  RenderOptions options;
+  options.threads = 2;
+  options.integrator = integrator;
+  RenderResult again = RenderCpu(edited, options);
+  ASSERT_EQ(again.image.rgb.size(), shown->rgb.size());
+  EXPECT_EQ(std::memcmp(again.image.rgb.data(), shown->rgb.data(), shown->rgb.size() * sizeof(float)), 0);
+}
 
 }  // namespace pt::test
 #endif

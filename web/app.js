@@ -151,6 +151,11 @@ async function refreshStats() {
   $('s-backend').textContent = s.device ? `${s.backend} (${s.device})` : `${s.backend}, ${s.threads} threads`;
   $('s-variant').textContent = s.specialization;
   $('s-used').textContent = `${s.compact_used ? 'on' : 'off'} / ${s.sort_used ? 'on' : 'off'}`;
+  if (s.rebuilds) {  // what object moves cost: instances re-place through the top level alone
+    const r = s.rebuilds;
+    $('s-rebuilds').textContent = `${r.scene} / ${r.top_level}` +
+        (r.scene + r.top_level > 0 ? ` (last ${r.last_ms.toFixed(1)} ms)` : '');
+  }
   const stages = $('stages');
   const entries = Object.entries(s.stage_ms);
   const most = Math.max(1e-9, ...entries.map(([, ms]) => ms));
@@ -316,6 +321,10 @@ function numberInput(value, onChange) {
   return input;
 }
 
+// Material edits go out one at a time, in order: requests in flight together may be applied in
+// any order, and an older value (of a vector edited component by component) could win.
+let materialEdits = Promise.resolve();
+
 // One input per editable field of the material as the scene file has it: numbers, and
 // colours or vectors of 3 numbers; other fields (type, texture files) are shown, not edited.
 function buildMaterialForm(form, index, fields) {
@@ -326,7 +335,11 @@ function buildMaterialForm(form, index, fields) {
   for (const [key, value] of Object.entries(fields)) {
     const label = document.createElement('label');
     label.append(key);
-    const send = (v) => edit(`/api/materials/${index}`, { [key]: v }).then(() => refreshMaterials());
+    const send = (v) => {
+      materialEdits = materialEdits.then(() => edit(`/api/materials/${index}`, { [key]: v }))
+        .then(() => refreshMaterials()).catch(() => {});  // a failure must not stop later edits
+      return materialEdits;
+    };
     if (typeof value === 'number') {
       const input = numberInput(value, () => send(Number(input.value)));
       input.name = key;

@@ -8,6 +8,7 @@
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/lights/light_table.h"
+#include "src/scene/instances.h"
 
 namespace pt {
 
@@ -162,6 +163,13 @@ uint64_t LiveRender::MoveObject(size_t index, vec3 delta) {
   if (!IsFinite(delta)) throw EditError(400, "the move must be 3 finite numbers");
   return Queue([&](Pending& p) {
     if (index >= objects_.Count()) throw EditError(404, "no object " + std::to_string(index));
+    if (int instance = objects_.InstanceOf(index); instance >= 0) {
+      SceneDocument::MovedInstance moved = document_.TranslatedInstance(index, delta);
+      document_.SetObject(index, std::move(moved.object));
+      p.placements[size_t(instance)] = moved.toWorld;
+      p.restart = true;
+      return;
+    }
     SceneDocument::MovedObject moved = document_.TranslatedObject(index, delta);
     if (!objects_.Fits(index, moved.loaded)) {
       throw EditError(422, "object " + std::to_string(index) +
@@ -222,22 +230,13 @@ bool LiveRender::ApplyEdits() {
   if (!p->restart) return false;
   {
     std::unique_lock<std::shared_mutex> lock(sceneMutex_);
-    SceneDesc& desc = scene_.desc;
-    for (const auto& [index, moved] : p->moves) objects_.Place(index, moved, desc);
-    for (const auto& [index, material] : p->materials) desc.materials[index] = material;
-    if (p->maxDepth) desc.render.maxDepth = *p->maxDepth;
+    if (p->maxDepth) scene_.desc.render.maxDepth = *p->maxDepth;
     if (p->options) options_ = *p->options;
-    if (!p->moves.empty()) {
-      scene_ = BuildScene(std::move(scene_.desc));
-      session_->SceneChanged();
-    } else if (!p->materials.empty()) {
-      BuildLightTable(scene_);
-      session_->MaterialsChanged();
-    }
+    ApplySceneEdits(*p);
     if (p->options || p->maxDepth) session_->SetOptions(options_);
     if (p->camera) {
       camera_ = MakeCamera(*p->camera, width_, height_);
-      desc.camera = *p->camera;
+      scene_.desc.camera = *p->camera;
       session_->SetCamera(camera_);
     }
     session_->ResetFilm();
@@ -248,6 +247,29 @@ bool LiveRender::ApplyEdits() {
   editReceived_ = p->firstReceived;
   generationStart_ = lastPassEnd_ = session_->Stats();
   return true;
+}
+
+// Moves and materials, by the cheapest update that covers them: instance moves alone re-place
+// through the top level, any other move rebuilds the scene.
+void LiveRender::ApplySceneEdits(const Pending& p) {
+  auto t0 = Clock::now();
+  for (const auto& [index, toWorld] : p.placements) UpdateInstanceTransform(scene_, index, toWorld);
+  for (const auto& [index, moved] : p.moves) objects_.Place(index, moved, scene_.desc);
+  for (const auto& [index, material] : p.materials) scene_.desc.materials[index] = material;
+  if (!p.moves.empty()) {
+    scene_ = BuildScene(std::move(scene_.desc));
+    session_->SceneChanged();
+    ++sceneRebuilds_;
+  } else {
+    if (!p.placements.empty()) RebuildTopLevel(scene_);
+    if (!p.materials.empty()) BuildLightTable(scene_);  // after the top level: its bounds
+    if (!p.placements.empty()) {
+      session_->TopLevelChanged();
+      ++topLevelRebuilds_;
+    }
+    if (!p.materials.empty()) session_->MaterialsChanged();
+  }
+  if (!p.moves.empty() || !p.placements.empty()) lastRebuildMs_ = MsBetween(t0, Clock::now());
 }
 
 void LiveRender::RenderPass() {

@@ -76,6 +76,8 @@ class LiveRender {
   uint64_t EditCamera(const Json& fields);
   uint64_t EditOptions(const Json& fields);  // compact, sort, integrator, specialize, max_depth, spp
   uint64_t EditMaterial(size_t index, const Json& fields);
+  // An instance object is re-placed through the top level (RebuildTopLevel, no mesh touched);
+  // any other object is loaded again at its new place and the scene rebuilt.
   uint64_t MoveObject(size_t index, vec3 delta);
   void SetExposure(float stops);  // display only: the current film is encoded again
 
@@ -93,12 +95,14 @@ class LiveRender {
     std::optional<uint32_t> spp;
     std::map<size_t, Material> materials;
     std::map<size_t, SceneDesc> moves;  // object -> its shapes at the new place
+    std::map<size_t, glm::dmat4> placements;  // SceneDesc::instances index -> its new toWorld
   };
   struct Encoding;
 
   uint64_t Queue(const std::function<void(Pending&)>& edit);
   void RenderLoop();
   bool ApplyEdits();
+  void ApplySceneEdits(const Pending& p);  // under an exclusive sceneMutex_
   void RenderPass();
   void Publish(const std::string& statsJson);
   void EncodeLoop();
@@ -128,6 +132,10 @@ class LiveRender {
   bool firstFrameOfGeneration_ = true;
   RenderStats generationStart_, lastPassEnd_;
   double lastPassMs_ = 0.0;
+  // What the edits cost: full scene rebuilds, top-level rebuilds (instance moves alone), and
+  // the last rebuild's time; reported with every frame's statistics.
+  uint64_t sceneRebuilds_ = 0, topLevelRebuilds_ = 0;
+  double lastRebuildMs_ = 0.0;
   uint32_t lastPassSpp_ = 0;
   std::chrono::steady_clock::time_point lastPublish_, editReceived_;
 

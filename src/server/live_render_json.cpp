@@ -127,6 +127,9 @@ std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_
   j["compact_used"] = now.compactUsed;
   j["sort_used"] = now.sortUsed;
   j["specialization"] = now.specialization;
+  j["rebuilds"] = Json{{"scene", sceneRebuilds_},
+                       {"top_level", topLevelRebuilds_},
+                       {"last_ms", lastRebuildMs_}};
   return j.dump();
 }
 
@@ -148,6 +151,7 @@ std::string LiveRender::DescribeJson() const {
     Json entry{{"index", i}, {"type", o.value("type", "")}};
     if (o.contains("material")) entry["material"] = o["material"];
     if (o.contains("file")) entry["file"] = o["file"];
+    if (o.contains("mesh")) entry["mesh"] = o["mesh"];  // an instance of that table mesh
     objects.push_back(entry);
   }
   j["objects"] = objects;

@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "src/io/scene_loader.h"
+#include "src/scene/instances.h"
+#include "src/scene/transform.h"
 
 namespace pt {
 namespace {
@@ -46,10 +48,16 @@ SceneDocument::SceneDocument(const std::string& path, const RenderSettings& rend
   Json renderJson = RenderSection(render);
   doc_["render"] = renderJson;  // overrides applied, adaptive dropped
   if (!doc_.contains("materials")) doc_["materials"] = Json::object();
+  auto absolute = [&](Json& entry) {
+    if (!entry.is_object() || !entry.contains("file")) return;
+    fs::path file = entry["file"].get<std::string>();
+    if (file.is_relative()) entry["file"] = (fs::path(baseDir_) / file).lexically_normal().string();
+  };
   for (Json& object : doc_["objects"]) {
-    if (object.value("type", "") != "mesh" || !object.contains("file")) continue;
-    fs::path file = object["file"].get<std::string>();
-    if (file.is_relative()) object["file"] = (fs::path(baseDir_) / file).lexically_normal().string();
+    if (object.value("type", "") == "mesh") absolute(object);
+  }
+  if (doc_.contains("meshes")) {
+    for (Json& mesh : doc_["meshes"]) absolute(mesh);
   }
 }
 
@@ -115,6 +123,19 @@ SceneDocument::MovedObject SceneDocument::TranslatedObject(size_t index, vec3 de
     throw SceneError(message);
   }
   return MovedObject{std::move(object), std::move(loaded)};
+}
+
+SceneDocument::MovedInstance SceneDocument::TranslatedInstance(size_t index, vec3 delta) const {
+  if (index >= ObjectCount()) throw SceneError(path_, "objects", "no such object");
+  Json object = ObjectJson(index);
+  const Json* transform = object.contains("transform") ? &object["transform"] : nullptr;
+  object["transform"] = TranslatedTransform(transform, delta);
+  // As the loader's ParseInstance reads it: a float matrix, then checked in double.
+  std::string field = "objects[" + std::to_string(index) + "].transform";
+  glm::dmat4 toWorld(ParseTransform(JsonObject(JsonValue(object["transform"], field, path_))));
+  std::string why;
+  if (!ValidInstanceTransform(toWorld, &why)) throw SceneError(path_, field, why);
+  return MovedInstance{std::move(object), toWorld};
 }
 
 void SceneDocument::SetRenderSetting(const std::string& key, int64_t value) {

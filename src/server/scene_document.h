@@ -47,6 +47,13 @@ class SceneDocument {
     SceneDesc loaded;
   };
   MovedObject TranslatedObject(size_t index, vec3 delta) const;
+  // An "instance" object moved by `delta` the same way, and the placement the loader makes of
+  // it (checked as the loader checks it); its mesh is not loaded.
+  struct MovedInstance {
+    Json object;
+    glm::dmat4 toWorld;
+  };
+  MovedInstance TranslatedInstance(size_t index, vec3 delta) const;
   void SetObject(size_t index, Json object) { doc_["objects"][index] = std::move(object); }
   // render.max_depth or render.spp, within the loader's limits.
   void SetRenderSetting(const std::string& key, int64_t value);

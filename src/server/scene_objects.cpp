@@ -29,31 +29,72 @@ void Replace(std::vector<T>& all, uint32_t first, const std::vector<T>& with) {
   std::copy(with.begin(), with.end(), all.begin() + first);
 }
 
+// An instance object's part: one instance, and its table mesh when it places that mesh first
+// (the loader loads a table mesh on first use, appending its triangles there).
+ObjectShapes InstanceShapes(const SceneDesc& desc, const ObjectShapes& next) {
+  if (next.firstInstance >= desc.instances.size()) {
+    throw std::runtime_error("the scene has fewer instances than the file's instance objects");
+  }
+  ObjectShapes s = next;
+  s.isInstance = true;
+  s.instanceCount = 1;
+  s.triangleCount = s.quadCount = s.sphereCount = s.meshCount = 0;
+  uint32_t mesh = desc.instances[next.firstInstance].mesh;
+  if (mesh == next.firstMesh && mesh < desc.meshes.size()) {
+    if (desc.meshes[mesh].firstTriangle != next.firstTriangle) {
+      throw std::runtime_error("an instanced mesh's triangles are not where its object is");
+    }
+    s.meshCount = 1;
+    s.triangleCount = desc.meshes[mesh].triangleCount;
+  } else if (mesh > next.firstMesh) {
+    throw std::runtime_error("an instance places a mesh the objects before it did not load");
+  }
+  return s;
+}
+
 }  // namespace
 
 SceneObjects::SceneObjects(const SceneDocument& document, const SceneDesc& desc) {
   ObjectShapes next;
   for (size_t i = 0; i < document.ObjectCount(); ++i) {
-    SceneDesc alone = document.LoadObject(i);
     ObjectShapes s;
-    s.firstTriangle = next.firstTriangle;
-    s.triangleCount = uint32_t(alone.triangles.size());
-    s.firstQuad = next.firstQuad;
-    s.quadCount = uint32_t(alone.quads.size());
-    s.firstSphere = next.firstSphere;
-    s.sphereCount = uint32_t(alone.spheres.size());
+    if (document.ObjectJson(i).value("type", "") == "instance") {
+      s = InstanceShapes(desc, next);
+    } else {
+      SceneDesc alone = document.LoadObject(i);
+      s = next;
+      s.triangleCount = uint32_t(alone.triangles.size());
+      s.quadCount = uint32_t(alone.quads.size());
+      s.sphereCount = uint32_t(alone.spheres.size());
+      s.meshCount = uint32_t(alone.meshes.size());
+      s.instanceCount = uint32_t(alone.instances.size());
+    }
     shapes_.push_back(s);
+    instanceOwner_.insert(instanceOwner_.end(), s.instanceCount, int(i));
     next.firstTriangle += s.triangleCount;
     next.firstQuad += s.quadCount;
     next.firstSphere += s.sphereCount;
+    next.firstMesh += s.meshCount;
+    next.firstInstance += s.instanceCount;
   }
   if (next.firstTriangle != desc.triangles.size() || next.firstQuad != desc.quads.size() ||
-      next.firstSphere != desc.spheres.size()) {
+      next.firstSphere != desc.spheres.size() || next.firstMesh != desc.meshes.size() ||
+      next.firstInstance != desc.instances.size()) {
     throw std::runtime_error("the objects loaded one by one do not add up to the scene");
   }
 }
 
-int SceneObjects::ObjectOf(const PrimRef& prim) const {
+int SceneObjects::ObjectOf(const PrimRef& prim, uint32_t instance) const {
+  if (instance < instanceOwner_.size()) return instanceOwner_[instance];
+  return ObjectOfPrim(prim);
+}
+
+int SceneObjects::InstanceOf(size_t index) const {
+  const ObjectShapes& s = shapes_.at(index);
+  return s.isInstance ? int(s.firstInstance) : -1;
+}
+
+int SceneObjects::ObjectOfPrim(const PrimRef& prim) const {
   uint32_t i = prim.Index();
   switch (prim.Type()) {
     case ShapeType::kTriangle:
@@ -71,8 +112,9 @@ int SceneObjects::ObjectOf(const PrimRef& prim) const {
 
 bool SceneObjects::Fits(size_t index, const SceneDesc& moved) const {
   const ObjectShapes& s = shapes_.at(index);
-  return moved.triangles.size() == s.triangleCount && moved.quads.size() == s.quadCount &&
-         moved.spheres.size() == s.sphereCount;
+  return !s.isInstance && moved.triangles.size() == s.triangleCount &&
+         moved.quads.size() == s.quadCount && moved.spheres.size() == s.sphereCount &&
+         moved.meshes.size() == s.meshCount && moved.instances.size() == s.instanceCount;
 }
 
 void SceneObjects::Place(size_t index, const SceneDesc& moved, SceneDesc& desc) const {
@@ -84,6 +126,11 @@ void SceneObjects::Place(size_t index, const SceneDesc& moved, SceneDesc& desc) 
   Replace(desc.triangles, s.firstTriangle, moved.triangles);
   Replace(desc.quads, s.firstQuad, moved.quads);
   Replace(desc.spheres, s.firstSphere, moved.spheres);
+  for (uint32_t i = 0; i < s.instanceCount; ++i) {  // a mesh file's own reuse, placed anew
+    InstanceDesc placed = moved.instances[i];
+    placed.mesh += s.firstMesh;
+    desc.instances[s.firstInstance + i] = placed;
+  }
 }
 
 PickResult PickPixel(const Scene& scene, const Camera& camera, int width, int height, float x,
@@ -98,8 +145,11 @@ PickResult PickPixel(const Scene& scene, const Camera& camera, int width, int he
     return result;
   }
   const PrimRef& prim = scene.prims[hit.prim];
-  result.object = objects.ObjectOf(prim);
+  result.object = objects.ObjectOf(prim, hit.instance);
   result.material = int(prim.material);
+  if (hit.instance < scene.instances.size() && scene.instances[hit.instance].material >= 0) {
+    result.material = scene.instances[hit.instance].material;  // the instance's override
+  }
   result.distance = hit.t;
   result.point = ray.o + hit.t * ray.d;
   return result;
