@@ -50,7 +50,8 @@ TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
   }
   // The zoo holds every queue (the floor material of the JSON loader aside).
   for (uint32_t q = 0; q < kShadeQueueCount; ++q) EXPECT_TRUE(k.Uses(q)) << ShadeQueueName(q);
-  EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral).mode, SortMode::kQueues);
+  // Every queue used: one ordered kernel rather than a launch per queue.
+  EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral).mode, SortMode::kMaterial);
   EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kSmooth).mode, SortMode::kOff);
   EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral, false).mode,
             SortMode::kOff);
@@ -60,15 +61,28 @@ TEST(ShadeKeys, MaterialsAreRankedByQueueAndEveryZooQueueIsUsed) {
             SortMode::kMaterial);
 }
 
-// auto with a single surface queue: a costly one gets its own kernel (queues), a cheap one
-// stays off (nothing separated, nothing specialised worth an ordering pass).
-TEST(SortModes, AutoWithOneSurfaceQueue) {
+// auto by the surface queues a scene uses: one costly queue gets its own kernel (queues), one
+// cheap one stays off; 2-3 queues with a costly one: queues; more: one ordered kernel.
+TEST(SortModes, AutoByTheSurfaceQueuesUsed) {
   for (uint32_t q = 0; q < kEscapedQueue; ++q) {
     ShadeKeys k;
     k.queuesUsed = (1u << q) | (1u << kEscapedQueue);
     SortChoice c = ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral);
     EXPECT_EQ(c.mode, CostlyQueue(q) ? SortMode::kQueues : SortMode::kOff) << ShadeQueueName(q);
     EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral, false).mode, SortMode::kOff);
+  }
+  // A costly queue among 2 or 3: a kernel per queue; among 4 or more: one ordered kernel.
+  uint32_t costly = 0;
+  while (!CostlyQueue(costly)) ++costly;
+  ShadeKeys k;
+  k.queuesUsed = (1u << kEscapedQueue) | (1u << costly);
+  uint32_t used = 1;
+  for (uint32_t q = 0; q < kEscapedQueue; ++q) {
+    if (q == costly) continue;
+    k.queuesUsed |= 1u << q;
+    ++used;
+    SortMode expected = used <= 3 ? SortMode::kQueues : SortMode::kMaterial;
+    EXPECT_EQ(ChooseSortMode(SortMode::kAuto, k, FeatureClass::kGeneral).mode, expected) << used;
   }
 }
 

@@ -57,6 +57,9 @@ bool CostlyQueue(uint32_t q) {
   return QueueTextured(q) || t == MaterialType::kPlastic || t == MaterialType::kGltfPbr;
 }
 
+// Most surface queues for which auto launches a kernel per queue.
+constexpr uint32_t kMaxQueuesForQueueMode = 3;
+
 SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass featureClass,
                           bool lockstep) {
   if (asked != SortMode::kAuto) return SortChoice{asked, "asked for"};
@@ -76,6 +79,12 @@ SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass fe
     return SortChoice{SortMode::kOff, "no costly material (textured, plastic or glTF)"};
   if (queues < 2)
     return SortChoice{SortMode::kQueues, "one costly shade queue: its own kernel"};
+  // Past a few queues, one launch per queue per bounce (each over few paths) costs more than
+  // the registers the specialised kernels save: the material zoo's 7 queues ran 0.94x of one
+  // ordered kernel, while 2 and 3 queues tied or won (H100, benchmarks/RESULTS.md).
+  if (queues > kMaxQueuesForQueueMode)
+    return SortChoice{SortMode::kMaterial, std::to_string(queues) +
+                                               " shade queues: one ordered kernel beats a launch each"};
   return SortChoice{SortMode::kQueues, std::to_string(queues) +
                                            " shade queues, costly materials among them"};
 }
