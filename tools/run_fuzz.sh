@@ -5,7 +5,7 @@
 #   tools/run_fuzz.sh [SECONDS]      (default 60)
 #
 # Builds build-fuzz/scene_loader_fuzz with clang++-14 -fsanitize=fuzzer,address,undefined from
-# the loader's sources (src/io, src/scene, src/geometry, src/lights; the Debian tinygltf,
+# the loader's sources (src/io, src/scene, src/geometry, src/lights, src/materials; the Debian tinygltf,
 # tinyobjloader and tinyexr libraries are linked as they are), replays every seed file of
 # tests/malformed/ and scenes/ (scenes and meshes) once at full size, then fuzzes from those
 # seeds for the given time with inputs up to 16 KiB. New interesting inputs go to
@@ -35,7 +35,7 @@ FLAGS=(-std=c++20 -O1 -g -fno-omit-frame-pointer
        -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
        -DGLM_FORCE_CTOR_INIT "-DPT_VERSION=\"fuzz\"" -I"$ROOT" -I/usr/include/stb -w)
 mapfile -t SOURCES < <(cd "$ROOT" && ls src/io/*.cpp src/scene/*.cpp src/geometry/*.cpp \
-                       src/lights/*.cpp fuzz/scene_loader_fuzz.cpp)
+                       src/lights/*.cpp src/materials/*.cpp fuzz/scene_loader_fuzz.cpp)
 STAMP="$OUT/obj/.stamp"
 echo "$CXX ${FLAGS[*]}" > "$STAMP.new"
 NEWER_HEADER="$( [ -f "$STAMP" ] && cd "$ROOT" && find src fuzz -name '*.h' -newer "$STAMP" | head -n 1 || true )"
