@@ -3,14 +3,16 @@
 // decides), any-hit agreeing with closest-hit, quantised child boxes conservative, empty and
 // one-triangle scenes, NaN and infinite rays.
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "tests/hard_geometry_util.h"
+#include "src/geometry/bvh_wide.h"
 #include "tests/brute_force.h"
+#include "tests/hard_geometry_util.h"
 
 namespace pt {
 namespace {
@@ -256,6 +258,36 @@ TEST(BvhWide, SbvhLowersTheSahCostOfLongTriangles) {
   EXPECT_LT(sbvh.scene.bvhSahCost, 0.9 * sah.scene.bvhSahCost);
   EXPECT_GT(sbvh.view.primCount, sah.view.primCount);
   EXPECT_LE(sbvh.view.primCount, 2 * sah.view.primCount);
+}
+
+// The collapse runs subtrees as tasks on several threads: the nodes, primitive order, depth and
+// cost must be the same bits as on one thread, and every primitive must land in exactly one leaf.
+TEST(BvhWide, ParallelCollapseGivesTheSameNodesAsOneThread) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Aabb> bounds;
+  for (int i = 0; i < 40000; ++i) {  // well above the collapse's task size (4096 primitives)
+    vec3 c(u(rng), u(rng), u(rng)), e = 0.01f * (vec3(u(rng), u(rng), u(rng)) + 1.0f);
+    bounds.push_back(Aabb{c - e, c + e});
+  }
+  BvhBuildOptions options;
+  options.maxLeafSize = 1;
+  options.threads = 2;
+  const BvhBuildResult binary = BuildBvh(bounds, options);
+  const WideBvhResult one = CollapseToWide(binary, bounds, 1);
+  for (int threads : {2, 3}) {
+    const WideBvhResult many = CollapseToWide(binary, bounds, threads);
+    ASSERT_EQ(many.nodes.size(), one.nodes.size()) << threads;
+    EXPECT_EQ(std::memcmp(many.nodes.data(), one.nodes.data(),
+                          one.nodes.size() * sizeof(WideBvhNode)), 0) << threads;
+    EXPECT_EQ(many.primOrder, one.primOrder) << threads;
+    EXPECT_EQ(many.maxDepth, one.maxDepth) << threads;
+    EXPECT_EQ(many.sahCost, one.sahCost) << threads;
+  }
+  std::vector<int> seen(bounds.size(), 0);
+  for (uint32_t p : one.primOrder) ++seen[p];
+  for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "primitive " << i;
+  EXPECT_GT(one.nodes.size(), bounds.size() / 24);  // a tree, not one leaf per primitive run
 }
 
 }  // namespace

@@ -1,11 +1,18 @@
 // Binary BVH -> 8-wide compressed BVH (Ylitie, Karras, Laine 2017, section 3).
 #include "src/geometry/bvh_wide.h"
 
+#include "src/geometry/bvh_build_internal.h"
+
+#include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 namespace pt {
 namespace {
@@ -148,23 +155,79 @@ void Quantize(const Aabb boxes[kWidth], const bool used[kWidth], WideBvhNode* no
 
 // ---- The collapse ----
 
+// Binary subtrees of at most this many primitives are collapsed as independent tasks (cost
+// pass and emission), on as many threads as the build has. Larger ones are done first, on one
+// thread; smaller ones inline. Fixed counts, so the layout never depends on the thread count.
+constexpr uint32_t kTaskPrims = 4096;
+constexpr uint32_t kMinTaskPrims = 64;
+
+// Runs fn(i) for i in [0, count) on `threads` threads; the first exception is rethrown.
+template <typename Fn>
+void ForEachParallel(size_t count, int threads, const Fn& fn) {
+  std::atomic<size_t> next{0};
+  std::exception_ptr error;
+  std::mutex errorMutex;
+  auto worker = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < count;) {
+      try {
+        fn(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(errorMutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < std::min(size_t(std::max(threads, 1)), count); ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+// Wide nodes and primitive slots as one emission writes them.
+struct WideOut {
+  std::vector<WideBvhNode> nodes;
+  std::vector<uint32_t> primOrder;
+  double sah = 0.0;
+  int maxDepth = 0;
+};
+
+// A wide node whose subtree is emitted as a task: its slot, binary node and depth.
+struct Deferred {
+  uint32_t wideIndex;
+  uint32_t binary;
+  int depth;
+};
+
 class Collapser {
  public:
-  Collapser(const BvhBuildResult& binary, std::vector<BvhNode> nodes, WideBvhResult* out)
-      : binary_(binary), nodes_(std::move(nodes)), out_(out) {}
+  Collapser(const BvhBuildResult& binary, std::vector<BvhNode> nodes, int threads)
+      : binary_(binary), nodes_(std::move(nodes)), threads_(threads) {}
 
-  void Run() {
+  void Run(WideBvhResult* result) {
     ComputeCosts();
-    out_->nodes.reserve(nodes_.size() / 3 + 1);
-    out_->primOrder.reserve(binary_.primOrder.size());
-    out_->nodes.emplace_back();
+    WideOut top;
+    top.nodes.reserve(nodes_.size() / 3 + 1);
+    top.primOrder.reserve(binary_.primOrder.size());
+    top.nodes.emplace_back();
     std::vector<uint32_t> children;
     if (nodes_[0].IsLeaf()) children.push_back(0);  // a root leaf: one leaf slot
     else Gather(0, 0, children);
+    std::vector<Deferred> deferred;
+    Emit(top, 0, children, 0, &deferred);
+    std::vector<WideOut> parts(deferred.size());
+    ForEachParallel(deferred.size(), threads_, [&](size_t i) {
+      std::vector<uint32_t> grand;
+      Gather(deferred[i].binary, 0, grand);
+      parts[i].nodes.emplace_back();
+      Emit(parts[i], 0, grand, deferred[i].depth, nullptr);
+    });
+    for (size_t i = 0; i < parts.size(); ++i) Append(parts[i], deferred[i].wideIndex, &top);
     float rootArea = AreaF(NodeBox(nodes_[0]));
-    sah_ = 0.0;
-    Emit(0, children, 0);
-    out_->sahCost = rootArea > 0.0f ? sah_ / rootArea : 0.0;
+    result->nodes = std::move(top.nodes);
+    result->primOrder = std::move(top.primOrder);
+    result->maxDepth = top.maxDepth;
+    result->sahCost = rootArea > 0.0f ? top.sah / rootArea : 0.0;
   }
 
  private:
@@ -172,11 +235,16 @@ class Collapser {
   int8_t& Choice(uint32_t n, int slots) { return choice_[size_t(n) * kWidth + slots - 1]; }
 
   void ComputeCosts();
+  void NodeCost(uint32_t i);
   // Appends the binary nodes that become the slots when `n`'s children share the node's 8
   // slots (slotsFor = 0: as the DP's best internal split of n), or n spread over `slotsFor`.
   void Gather(uint32_t n, int slotsFor, std::vector<uint32_t>& out);
-  void Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, int depth);
+  // Writes the wide node `wideIndex` over `children` and, depth-first, its interior children;
+  // with `deferred`, subtrees of task size are left to tasks instead.
+  void Emit(WideOut& out, uint32_t wideIndex, const std::vector<uint32_t>& children, int depth,
+            std::vector<Deferred>* deferred);
   void AssignSlots(const std::vector<uint32_t>& children, int slotOf[kWidth]);
+  static void Append(const WideOut& part, uint32_t wideIndex, WideOut* top);
   void LeafPrims(uint32_t n, std::vector<uint32_t>& out) {
     const BvhNode& b = nodes_[n];
     if (b.IsLeaf()) {
@@ -186,18 +254,21 @@ class Collapser {
     LeafPrims(b.leftOrFirst, out);
     LeafPrims(b.leftOrFirst + 1, out);
   }
+  bool Interior(uint32_t i) const { return !nodes_[i].IsLeaf() && nodes_[i].leftOrFirst != 0; }
 
   const BvhBuildResult& binary_;
   std::vector<BvhNode> nodes_;
-  WideBvhResult* out_;
+  int threads_;
   std::vector<float> cost_;     // [node][slots - 1]: best cost of the subtree over that many slots
   std::vector<int8_t> choice_;  // 0: one slot; -1: as with one slot fewer; k: k slots go left
   std::vector<int8_t> split8_;  // k of the best distribution of the 8 slots over the children
   std::vector<uint8_t> asLeaf_;  // one slot: a leaf (1) or a node (0)
   std::vector<uint32_t> primCount_;
-  double sah_ = 0.0;
+  std::vector<uint32_t> last_;  // last descendant (descendants are [leftOrFirst, last_])
 };
 
+// Every node's cost depends on its children's only, and a node's descendants are one index
+// range after it: so subtrees of task size are costed in parallel, then the nodes above them.
 void Collapser::ComputeCosts() {
   size_t n = nodes_.size();
   cost_.assign(n * kWidth, 0.0f);
@@ -205,44 +276,69 @@ void Collapser::ComputeCosts() {
   split8_.assign(n, 0);
   asLeaf_.assign(n, 0);
   primCount_.assign(n, 0);
-  constexpr float kInf = std::numeric_limits<float>::infinity();
+  last_.assign(n, 0);
   for (size_t idx = n; idx-- > 0;) {  // children always follow their parent
-    uint32_t i = uint32_t(idx);
-    const BvhNode& node = nodes_[i];
-    float area = AreaF(NodeBox(node));
-    if (node.IsLeaf() || node.leftOrFirst == 0) {
-      primCount_[i] = node.count;
-      float leaf = area * kPrimCost * float(node.count);
-      for (int s = 1; s <= kWidth; ++s) {
-        Cost(i, s) = leaf;
-        Choice(i, s) = s == 1 ? 0 : -1;
-      }
-      asLeaf_[i] = 1;
+    uint32_t i = uint32_t(idx), l = nodes_[i].leftOrFirst;
+    primCount_[i] = Interior(i) ? primCount_[l] + primCount_[l + 1] : nodes_[i].count;
+    last_[i] = Interior(i) ? std::max(last_[l], last_[l + 1]) : i;
+  }
+  std::vector<uint32_t> tasks, above, todo{0};
+  while (!todo.empty()) {
+    uint32_t i = todo.back();
+    todo.pop_back();
+    if (!Interior(i) || primCount_[i] <= kTaskPrims) {
+      tasks.push_back(i);
       continue;
     }
-    uint32_t l = node.leftOrFirst, r = l + 1;
-    primCount_[i] = primCount_[l] + primCount_[r];
-    float dist[kWidth + 1];
-    int8_t arg[kWidth + 1];
-    for (int j = 2; j <= kWidth; ++j) {
-      dist[j] = kInf;
-      arg[j] = 1;
-      for (int k = 1; k < j; ++k) {
-        float c = Cost(l, k) + Cost(r, j - k);
-        if (c < dist[j]) dist[j] = c, arg[j] = int8_t(k);
-      }
+    above.push_back(i);
+    todo.push_back(nodes_[i].leftOrFirst);
+    todo.push_back(nodes_[i].leftOrFirst + 1);
+  }
+  ForEachParallel(tasks.size(), threads_, [&](size_t t) {
+    const uint32_t root = tasks[t];  // its descendants, deepest first, then itself
+    if (Interior(root)) {
+      for (uint32_t i = last_[root] + 1; i-- > nodes_[root].leftOrFirst;) NodeCost(i);
     }
-    float leaf = primCount_[i] <= kMaxLeafPrims ? area * kPrimCost * float(primCount_[i]) : kInf;
-    float internal = dist[kWidth] + area * kNodeCost;
-    split8_[i] = arg[kWidth];
-    asLeaf_[i] = leaf <= internal ? 1 : 0;
-    Cost(i, 1) = std::min(leaf, internal);
-    Choice(i, 1) = 0;
-    for (int s = 2; s <= kWidth; ++s) {
-      bool distribute = dist[s] < Cost(i, s - 1);
-      Cost(i, s) = distribute ? dist[s] : Cost(i, s - 1);
-      Choice(i, s) = distribute ? arg[s] : -1;
+    NodeCost(root);
+  });
+  std::sort(above.begin(), above.end());
+  for (size_t k = above.size(); k-- > 0;) NodeCost(above[k]);
+}
+
+void Collapser::NodeCost(uint32_t i) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const BvhNode& node = nodes_[i];
+  float area = AreaF(NodeBox(node));
+  if (!Interior(i)) {
+    float leaf = area * kPrimCost * float(node.count);
+    for (int s = 1; s <= kWidth; ++s) {
+      Cost(i, s) = leaf;
+      Choice(i, s) = s == 1 ? 0 : -1;
     }
+    asLeaf_[i] = 1;
+    return;
+  }
+  uint32_t l = node.leftOrFirst, r = l + 1;
+  float dist[kWidth + 1];
+  int8_t arg[kWidth + 1];
+  for (int j = 2; j <= kWidth; ++j) {
+    dist[j] = kInf;
+    arg[j] = 1;
+    for (int k = 1; k < j; ++k) {
+      float c = Cost(l, k) + Cost(r, j - k);
+      if (c < dist[j]) dist[j] = c, arg[j] = int8_t(k);
+    }
+  }
+  float leaf = primCount_[i] <= kMaxLeafPrims ? area * kPrimCost * float(primCount_[i]) : kInf;
+  float internal = dist[kWidth] + area * kNodeCost;
+  split8_[i] = arg[kWidth];
+  asLeaf_[i] = leaf <= internal ? 1 : 0;
+  Cost(i, 1) = std::min(leaf, internal);
+  Choice(i, 1) = 0;
+  for (int s = 2; s <= kWidth; ++s) {
+    bool distribute = dist[s] < Cost(i, s - 1);
+    Cost(i, s) = distribute ? dist[s] : Cost(i, s - 1);
+    Choice(i, s) = distribute ? arg[s] : -1;
   }
 }
 
@@ -299,9 +395,10 @@ void Collapser::AssignSlots(const std::vector<uint32_t>& children, int slotOf[kW
   }
 }
 
-void Collapser::Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, int depth) {
+void Collapser::Emit(WideOut& out, uint32_t wideIndex, const std::vector<uint32_t>& children,
+                     int depth, std::vector<Deferred>* deferred) {
   if (depth >= kWideStackSize) throw std::logic_error("wide BVH deeper than its stack");
-  out_->maxDepth = std::max(out_->maxDepth, depth);
+  out.maxDepth = std::max(out.maxDepth, depth);
   int slotOf[kWidth];
   AssignSlots(children, slotOf);
   int childAt[kWidth];  // slot -> index into children, or -1
@@ -309,8 +406,8 @@ void Collapser::Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, 
   for (int c = 0; c < int(children.size()); ++c) childAt[slotOf[c]] = c;
 
   WideBvhNode node{};
-  node.childBase = uint32_t(out_->nodes.size());
-  node.primBase = uint32_t(out_->primOrder.size());
+  node.childBase = uint32_t(out.nodes.size());
+  node.primBase = uint32_t(out.primOrder.size());
   Aabb boxes[kWidth], all;
   bool used[kWidth];
   uint32_t interior[kWidth];
@@ -322,38 +419,61 @@ void Collapser::Emit(uint32_t wideIndex, const std::vector<uint32_t>& children, 
     boxes[s] = NodeBox(nodes_[b]);
     all.Extend(boxes[s]);
     if (asLeaf_[b]) {  // the subtree's primitives (at most 3) at primBase + offset (< 24)
-      uint32_t offset = uint32_t(out_->primOrder.size()) - node.primBase;
-      size_t before = out_->primOrder.size();
-      LeafPrims(b, out_->primOrder);
-      uint32_t n = uint32_t(out_->primOrder.size() - before);
+      uint32_t offset = uint32_t(out.primOrder.size()) - node.primBase;
+      size_t before = out.primOrder.size();
+      LeafPrims(b, out.primOrder);
+      uint32_t n = uint32_t(out.primOrder.size() - before);
       node.meta[s] = uint8_t((((1u << n) - 1u) << 5) | offset);
-      sah_ += double(AreaF(boxes[s])) * kPrimCost * n;
+      out.sah += double(AreaF(boxes[s])) * kPrimCost * n;
     } else {
       node.innerMask |= uint8_t(1u << s);
       node.meta[s] = uint8_t((1u << 5) | (24u + uint32_t(s)));
       interior[interiorCount++] = b;
     }
   }
-  sah_ += double(AreaF(all)) * kNodeCost;
+  out.sah += double(AreaF(all)) * kNodeCost;
   Quantize(boxes, used, &node);
-  out_->nodes.resize(out_->nodes.size() + interiorCount);
-  out_->nodes[wideIndex] = node;
+  out.nodes.resize(out.nodes.size() + interiorCount);
+  out.nodes[wideIndex] = node;
   // Interior children fill the block at childBase in slot order, each depth-first.
   std::vector<uint32_t> grand;
   for (int i = 0; i < interiorCount; ++i) {
+    uint32_t prims = primCount_[interior[i]];
+    if (deferred && prims <= kTaskPrims && prims > kMinTaskPrims) {
+      deferred->push_back(Deferred{node.childBase + uint32_t(i), interior[i], depth + 1});
+      continue;
+    }
     grand.clear();
     Gather(interior[i], 0, grand);
-    Emit(node.childBase + uint32_t(i), grand, depth + 1);
+    Emit(out, node.childBase + uint32_t(i), grand, depth + 1, deferred);
   }
+}
+
+// A task's subtree (its root at part.nodes[0]) into the slot reserved for it, the rest
+// appended, with node and primitive indices moved to where they now live.
+void Collapser::Append(const WideOut& part, uint32_t wideIndex, WideOut* top) {
+  const uint32_t nodeShift = uint32_t(top->nodes.size()) - 1u;
+  const uint32_t primShift = uint32_t(top->primOrder.size());
+  for (size_t k = 0; k < part.nodes.size(); ++k) {
+    WideBvhNode node = part.nodes[k];
+    node.childBase += nodeShift;
+    node.primBase += primShift;
+    if (k == 0) top->nodes[wideIndex] = node;
+    else top->nodes.push_back(node);
+  }
+  top->primOrder.insert(top->primOrder.end(), part.primOrder.begin(), part.primOrder.end());
+  top->sah += part.sah;
+  top->maxDepth = std::max(top->maxDepth, part.maxDepth);
 }
 
 }  // namespace
 
-WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds) {
+WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds,
+                             int threads) {
   WideBvhResult result;
   if (binary.nodes.empty() || binary.primOrder.empty()) return result;
   std::vector<BvhNode> nodes = LeafSplitter(binary, primBounds).Run();
-  Collapser(binary, std::move(nodes), &result).Run();
+  Collapser(binary, std::move(nodes), bvh_internal::BuildThreads(threads)).Run(&result);
   return result;
 }
 

@@ -21,7 +21,9 @@ struct WideBvhResult {
 };
 
 // Collapses `binary` (as BuildBvh returns it; primBounds are the input primitives' bounds, to
-// split leaves of more than 3 primitives). Deterministic.
-WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds);
+// split leaves of more than 3 primitives), on `threads` threads (0: all cores, as BvhBuildOptions). Deterministic:
+// the same nodes whatever the thread count.
+WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds,
+                             int threads = 1);
 
 }  // namespace pt
