@@ -10,6 +10,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -201,8 +202,8 @@ struct Deferred {
 
 class Collapser {
  public:
-  Collapser(const BvhBuildResult& binary, std::vector<BvhNode> nodes, int threads)
-      : binary_(binary), nodes_(std::move(nodes)), threads_(threads) {}
+  Collapser(const BvhBuildResult& binary, const std::vector<BvhNode>& nodes, int threads)
+      : binary_(binary), nodes_(nodes), threads_(threads) {}
 
   void Run(WideBvhResult* result) {
     ComputeCosts();
@@ -256,27 +257,32 @@ class Collapser {
   }
   bool Interior(uint32_t i) const { return !nodes_[i].IsLeaf() && nodes_[i].leftOrFirst != 0; }
 
+  // Per-node tables, left uninitialised (every entry is written before it is read): zeroing
+  // them was a fifth of the collapse of a 1M-triangle mesh, in page faults on one thread.
+  template <typename T>
+  using Table = std::unique_ptr<T[]>;
+
   const BvhBuildResult& binary_;
-  std::vector<BvhNode> nodes_;
+  const std::vector<BvhNode>& nodes_;
   int threads_;
-  std::vector<float> cost_;     // [node][slots - 1]: best cost of the subtree over that many slots
-  std::vector<int8_t> choice_;  // 0: one slot; -1: as with one slot fewer; k: k slots go left
-  std::vector<int8_t> split8_;  // k of the best distribution of the 8 slots over the children
-  std::vector<uint8_t> asLeaf_;  // one slot: a leaf (1) or a node (0)
-  std::vector<uint32_t> primCount_;
-  std::vector<uint32_t> last_;  // last descendant (descendants are [leftOrFirst, last_])
+  Table<float> cost_;     // [node][slots - 1]: best cost of the subtree over that many slots
+  Table<int8_t> choice_;  // 0: one slot; -1: as with one slot fewer; k: k slots go left
+  Table<int8_t> split8_;  // k of the best distribution of the 8 slots over the children
+  Table<uint8_t> asLeaf_;  // one slot: a leaf (1) or a node (0)
+  Table<uint32_t> primCount_;
+  Table<uint32_t> last_;  // last descendant (descendants are [leftOrFirst, last_])
 };
 
 // Every node's cost depends on its children's only, and a node's descendants are one index
 // range after it: so subtrees of task size are costed in parallel, then the nodes above them.
 void Collapser::ComputeCosts() {
   size_t n = nodes_.size();
-  cost_.assign(n * kWidth, 0.0f);
-  choice_.assign(n * kWidth, 0);
-  split8_.assign(n, 0);
-  asLeaf_.assign(n, 0);
-  primCount_.assign(n, 0);
-  last_.assign(n, 0);
+  cost_.reset(new float[n * kWidth]);
+  choice_.reset(new int8_t[n * kWidth]);
+  split8_.reset(new int8_t[n]);
+  asLeaf_.reset(new uint8_t[n]);
+  primCount_.reset(new uint32_t[n]);
+  last_.reset(new uint32_t[n]);
   for (size_t idx = n; idx-- > 0;) {  // children always follow their parent
     uint32_t i = uint32_t(idx), l = nodes_[i].leftOrFirst;
     primCount_[i] = Interior(i) ? primCount_[l] + primCount_[l + 1] : nodes_[i].count;
@@ -316,6 +322,7 @@ void Collapser::NodeCost(uint32_t i) {
       Choice(i, s) = s == 1 ? 0 : -1;
     }
     asLeaf_[i] = 1;
+    split8_[i] = 0;
     return;
   }
   uint32_t l = node.leftOrFirst, r = l + 1;
@@ -472,8 +479,14 @@ WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aab
                              int threads) {
   WideBvhResult result;
   if (binary.nodes.empty() || binary.primOrder.empty()) return result;
-  std::vector<BvhNode> nodes = LeafSplitter(binary, primBounds).Run();
-  Collapser(binary, std::move(nodes), bvh_internal::BuildThreads(threads)).Run(&result);
+  // Leaves of more than 3 primitives (the depth cap, or another leaf size) are split in a copy;
+  // without any, that copy would be the same nodes in the same order.
+  bool bigLeaves = false;
+  for (const BvhNode& n : binary.nodes) bigLeaves = bigLeaves || (n.IsLeaf() && n.count > kMaxLeafPrims);
+  std::vector<BvhNode> split;
+  if (bigLeaves) split = LeafSplitter(binary, primBounds).Run();
+  Collapser(binary, bigLeaves ? split : binary.nodes, bvh_internal::BuildThreads(threads))
+      .Run(&result);
   return result;
 }
 
