@@ -20,6 +20,7 @@
 #include "src/geometry/bvh.h"
 #include "src/geometry/traverse.h"
 #include "src/io/scene_loader.h"
+#include "src/scene/effects.h"
 
 namespace pt {
 namespace {
@@ -108,6 +109,26 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The queries the renderer's stages run for this scene: without instances, and with no material
+// asking for a hit test (alpha, back-face culling), the traversal compiled without that test.
+struct Queries {
+  const SceneView& view;
+  bool general;  // instances or hit tests: the run-time dispatch of traverse.h
+
+  bool Closest(const Ray& ray, HitRecord* hit, TraversalCounters* counters) const {
+    if (general) return IntersectClosest(view, ray, kInfinity, hit, counters);
+    return view.bvhLayout == BvhLayout::kWide
+               ? IntersectClosestIn<BvhLayout::kWide, false>(view, ray, kInfinity, hit, counters)
+               : IntersectClosestIn<BvhLayout::kBinary, false>(view, ray, kInfinity, hit, counters);
+  }
+  bool Any(const Ray& ray) const {
+    if (general) return IntersectAny(view, ray, kInfinity, nullptr);
+    return view.bvhLayout == BvhLayout::kWide
+               ? IntersectAnyIn<BvhLayout::kWide, false>(view, ray, kInfinity, nullptr)
+               : IntersectAnyIn<BvhLayout::kBinary, false>(view, ray, kInfinity, nullptr);
+  }
+};
+
 void RunOne(const Args& args, const SceneDesc& desc, BvhBuilder builder, BvhLayout layout) {
   BvhBuildOptions options;
   options.builder = builder;
@@ -127,18 +148,20 @@ void RunOne(const Args& args, const SceneDesc& desc, BvhBuilder builder, BvhLayo
   double cpuRate = 0.0;
   uint64_t hitsClosest = 0, hitsAny = 0;
   TraversalCounters work;
+  const Queries q{view, view.instanceCount != 0 ||
+                            (AnalyzeEffects(scene) & (kEffectAlpha | kEffectBackfaceCulling)) != 0};
   for (const Ray& r : std::vector<Ray>(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 100000))) {
     HitRecord hit;
-    IntersectClosest(view, r, kInfinity, &hit, &work);
+    q.Closest(r, &hit, &work);
   }
   for (int r = 0; r < args.repeats; ++r) {
     closest.push_back(TraceRate(rays, args.threads, [&](const Ray& ray) {
       HitRecord hit;
-      return IntersectClosest(view, ray, kInfinity, &hit, nullptr) ? 1 : 0;
+      return q.Closest(ray, &hit, nullptr) ? 1 : 0;
     }, &hitsClosest, &cpuRate));
     closestCpu.push_back(cpuRate);
     any.push_back(TraceRate(rays, args.threads, [&](const Ray& ray) {
-      return IntersectAny(view, ray, kInfinity, nullptr) ? 1 : 0;
+      return q.Any(ray) ? 1 : 0;
     }, &hitsAny, &cpuRate));
     anyCpu.push_back(cpuRate);
   }
