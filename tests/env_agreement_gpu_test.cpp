@@ -12,7 +12,7 @@ namespace {
 
 bool HaveGpu() { return CudaDeviceCount() > 0; }
 
-std::string Scene(const std::string& environment, const std::string& ball, int seed,
+std::string SceneText(const std::string& environment, const std::string& ball, int seed,
                   const std::string& lights = "[]") {
   return R"({"render": {"width": 48, "height": 48, "spp": 64, "max_depth": 4, "seed": )" +
          std::to_string(seed) + R"(},
@@ -44,8 +44,8 @@ void ExpectAgree(const std::string& a, const std::string& b, RenderOptions optio
 
 TEST(EnvAgreementGpu, SkyAndSunDiskMatchTheCpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  ExpectAgree(Scene(kSky, kDiffuse, 1), Scene(kSky, kDiffuse, 2), {}, "sky, diffuse");
-  ExpectAgree(Scene(kSky, kGlossy, 3), Scene(kSky, kGlossy, 4), {}, "sky, glossy");
+  ExpectAgree(SceneText(kSky, kDiffuse, 1), SceneText(kSky, kDiffuse, 2), {}, "sky, diffuse");
+  ExpectAgree(SceneText(kSky, kGlossy, 3), SceneText(kSky, kGlossy, 4), {}, "sky, glossy");
 }
 
 TEST(EnvAgreementGpu, MapSamplingStrategiesMatchTheCpu) {
@@ -53,11 +53,11 @@ TEST(EnvAgreementGpu, MapSamplingStrategiesMatchTheCpu) {
   std::string map = R"("environment": {"file": "sky.pfm", "rotate": [10, 60, 0]})";
   RenderOptions uniform;
   uniform.envSampling = EnvSampling::kUniform;
-  ExpectAgree(Scene(map, kDiffuse, 5), Scene(map, kDiffuse, 6), {}, "map, importance");
-  ExpectAgree(Scene(map, kGlossy, 7), Scene(map, kGlossy, 8), uniform, "map, uniform");
+  ExpectAgree(SceneText(map, kDiffuse, 5), SceneText(map, kDiffuse, 6), {}, "map, importance");
+  ExpectAgree(SceneText(map, kGlossy, 7), SceneText(map, kGlossy, 8), uniform, "map, uniform");
   std::string hidden = R"("environment": {"file": "sky.pfm", "visible_to_camera": false,
       "camera_color": [0.1, 0.2, 0.3]})";
-  ExpectAgree(Scene(hidden, kDiffuse, 9), Scene(hidden, kDiffuse, 10), {}, "map, hidden");
+  ExpectAgree(SceneText(hidden, kDiffuse, 9), SceneText(hidden, kDiffuse, 10), {}, "map, hidden");
 }
 
 TEST(EnvAgreementGpu, DeltaSunMatchesTheCpu) {
@@ -65,7 +65,7 @@ TEST(EnvAgreementGpu, DeltaSunMatchesTheCpu) {
   std::string sun = R"([{"type": "directional", "direction": [0.3, -1, -0.4],
       "irradiance": [3, 2.5, 2]}])";
   std::string env = R"("background": [0.1, 0.15, 0.2])";
-  ExpectAgree(Scene(env, kGlossy, 11, sun), Scene(env, kGlossy, 12, sun), {}, "delta sun");
+  ExpectAgree(SceneText(env, kGlossy, 11, sun), SceneText(env, kGlossy, 12, sun), {}, "delta sun");
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "src/integrator/render_api.h"
 #include "src/io/scene_loader.h"
+#include "tests/z_scores.h"
 
 namespace pt::test {
 
@@ -115,8 +116,5 @@ inline std::vector<Window> BlockWindows(const FilmImage& img, int blocks) {
   return windows;
 }
 
-// Two-sided normal quantiles: z such that P(|Z| > z) = p.
-constexpr double kZ1e4 = 3.8906;   // p = 1e-4
-constexpr double kZ1e5 = 4.4172;   // p = 1e-5
 
 }  // namespace pt::test

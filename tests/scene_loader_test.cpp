@@ -18,7 +18,7 @@ namespace {
 
 const char* kWhite = R"("white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})";
 
-std::string Scene(const std::string& objects, const std::string& materials = kWhite,
+std::string SceneText(const std::string& objects, const std::string& materials = kWhite,
                   const std::string& extra = "") {
   return R"({"render": {"width": 4, "height": 2, "spp": 1, "max_depth": 1},
              "camera": {"position": [0, 0, 0], "look_at": [0, 0, -2], "fov_y": 45},
@@ -79,7 +79,7 @@ void ExpectNormalsAgree(const SceneDesc& s) {
 }
 
 TEST(SceneLoader, Defaults) {
-  SceneDesc s = Load(Scene(""));
+  SceneDesc s = Load(SceneText(""));
   EXPECT_EQ(s.path, "test.json");
   EXPECT_EQ(s.render.width, 4);
   EXPECT_EQ(s.render.height, 2);
@@ -127,7 +127,7 @@ TEST(SceneLoader, RenderAndCameraFields) {
 }
 
 TEST(SceneLoader, MaterialsInFileOrderWithDefaults) {
-  SceneDesc s = Load(Scene(R"({"type": "sphere", "center": [0, 0, -3], "radius": 1, "material": "lamp"})",
+  SceneDesc s = Load(SceneText(R"({"type": "sphere", "center": [0, 0, -3], "radius": 1, "material": "lamp"})",
                            R"("zeta": {"type": "diffuse", "albedo": [1, 0, 0.5]},
                               "lamp": {"type": "emissive", "radiance": [17, 12, 4], "two_sided": true},
                               "mirror": {"type": "conductor", "albedo": [0.9, 0.9, 0.9], "roughness": 0},
@@ -162,7 +162,7 @@ TEST(SceneTransform, MatrixFormAndTrsFormGiveTheSamePoints) {
   glm::mat4 trs = TrsMatrix(vec3(1, 2, 3), vec3(10, 20, 30), vec3(0.5f, -1, 2));
   std::string quad = R"({"type": "quad", "origin": [0.1, 0.2, 0.3], "u": [1, 0, 0], "v": [0, 1, 0.5],
                          "material": "white", "transform": )";
-  SceneDesc s = Load(Scene(quad + R"({"scale": [1, 2, 3], "rotate": [10, 20, 30],
+  SceneDesc s = Load(SceneText(quad + R"({"scale": [1, 2, 3], "rotate": [10, 20, 30],
                                       "translate": [0.5, -1, 2]}},)" +
                            quad + R"({"matrix": )" + RowMajor(trs) + "}}"));
   ASSERT_EQ(s.quads.size(), 2u);
@@ -173,7 +173,7 @@ TEST(SceneTransform, MatrixFormAndTrsFormGiveTheSamePoints) {
 }
 
 TEST(SceneTransform, MatrixIsRowMajorWithTranslationAt3_7_11) {
-  SceneDesc s = Load(Scene(R"({"type": "quad", "origin": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0],
+  SceneDesc s = Load(SceneText(R"({"type": "quad", "origin": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0],
       "material": "white", "transform": {"matrix": [2,0,0,5, 0,3,0,6, 0,0,4,7, 0,0,0,1]}})"));
   ASSERT_EQ(s.quads.size(), 1u);
   ExpectNear(s.quads[0].origin, vec3(5, 6, 7));
@@ -182,7 +182,7 @@ TEST(SceneTransform, MatrixIsRowMajorWithTranslationAt3_7_11) {
 }
 
 TEST(SceneLoader, BoxGivesSixOutwardQuads) {
-  SceneDesc s = Load(Scene(R"({"type": "box", "min": [-1, -2, -3], "max": [1, 2, 3], "material": "white",
+  SceneDesc s = Load(SceneText(R"({"type": "box", "min": [-1, -2, -3], "max": [1, 2, 3], "material": "white",
       "transform": {"rotate": [0, 30, 0], "translate": [5, 0, 0]}})"));
   ASSERT_EQ(s.quads.size(), 6u);
   ASSERT_EQ(s.quadMaterials.size(), 6u);
@@ -197,7 +197,7 @@ TEST(SceneLoader, BoxGivesSixOutwardQuads) {
 }
 
 TEST(SceneLoader, SphereScaledByUniformScale) {
-  SceneDesc s = Load(Scene(R"({"type": "sphere", "center": [1, 0, 0], "radius": 0.5, "material": "white",
+  SceneDesc s = Load(SceneText(R"({"type": "sphere", "center": [1, 0, 0], "radius": 0.5, "material": "white",
         "transform": {"scale": 2, "rotate": [0, 0, 90], "translate": [0, 1, 0]}},
       {"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "material": "white",
         "transform": {"scale": [-3, -3, -3]}},
@@ -250,8 +250,8 @@ TEST(SceneGltf, GeneratedGlbThroughMeshScene) {
 
 TEST(SceneGltf, MaterialOverrideAndObjectTransform) {
   std::string mesh = R"({"type": "mesh", "file": "meshes/smooth_shapes.glb")";
-  SceneDesc plain = Load(Scene(mesh + "}"));
-  SceneDesc moved = Load(Scene(mesh + R"(, "material": "white", "transform": {"translate": [0, 1, 0]}})"));
+  SceneDesc plain = Load(SceneText(mesh + "}"));
+  SceneDesc moved = Load(SceneText(mesh + R"(, "material": "white", "transform": {"translate": [0, 1, 0]}})"));
   ASSERT_EQ(plain.triangles.size(), moved.triangles.size());
   EXPECT_EQ(moved.materials.size(), 1u);  // no glTF materials added
   for (uint32_t m : moved.triangleMaterials) ASSERT_EQ(m, 0u);
@@ -263,7 +263,7 @@ TEST(SceneGltf, MaterialOverrideAndObjectTransform) {
 TEST(SceneGltf, KhronosBoxWithNodeTransform) {
   if (!test::HaveShared()) GTEST_SKIP() << "../shared is not present (a user's clone)";
   std::string file = test::SharedPath("assets/khronos/Box/glTF-Binary/Box.glb");
-  SceneDesc s = Load(Scene(R"({"type": "mesh", "file": ")" + file +
+  SceneDesc s = Load(SceneText(R"({"type": "mesh", "file": ")" + file +
                            R"(", "transform": {"scale": [1, 2, 3]}})"));
   ASSERT_EQ(s.triangles.size(), 12u);
   vec3 lo(1e9f), hi(-1e9f);
@@ -285,7 +285,7 @@ TEST(SceneGltf, KhronosBoxWithNodeTransform) {
 
 TEST(SceneGltf, BunnyNpmTriangleCount) {
   if (!test::HaveShared()) GTEST_SKIP() << "../shared is not present (a user's clone)";
-  SceneDesc s = Load(Scene(R"({"type": "mesh", "material": "white", "file": ")" +
+  SceneDesc s = Load(SceneText(R"({"type": "mesh", "material": "white", "file": ")" +
                            test::SharedPath("assets/bunny-npm/bunny_npm.glb") + "\"}"));
   EXPECT_EQ(s.triangles.size() + s.skippedDegenerateTriangles, 3674u);
   EXPECT_EQ(s.triangleNormals.size(), s.triangles.size());
@@ -294,7 +294,7 @@ TEST(SceneGltf, BunnyNpmTriangleCount) {
 
 TEST(SceneGltf, TransmissionMaterialsMapWithTheirTints) {
   if (!test::HaveShared()) GTEST_SKIP() << "../shared is not present (a user's clone)";
-  SceneDesc s = Load(Scene(R"({"type": "mesh", "file": ")" +
+  SceneDesc s = Load(SceneText(R"({"type": "mesh", "file": ")" +
       test::SharedPath("assets/khronos/GlassHurricaneCandleHolder/glTF-Binary/"
                        "GlassHurricaneCandleHolder.glb") + "\"}"));
   EXPECT_EQ(s.triangles.size() + s.skippedDegenerateTriangles, 4126u);
@@ -322,7 +322,7 @@ TEST(SceneGltf, TransmissionMaterialsMapWithTheirTints) {
   EXPECT_GE(s.materials[opaque].baseColorTexture, 0);
   EXPECT_EQ(s.triangleUvs.size(), s.triangles.size());
 
-  SceneDesc iors = Load(Scene(R"({"type": "mesh", "file": ")" +
+  SceneDesc iors = Load(SceneText(R"({"type": "mesh", "file": ")" +
       test::SharedPath("assets/khronos/TransmissionRoughnessTest/glTF-Binary/"
                        "TransmissionRoughnessTest.glb") + "\"}"));
   for (auto [name, ior] : {std::pair{":Mat_IOR_1.0", 1.0f}, {":Mat_IOR_1.33", 1.33f},
@@ -344,7 +344,7 @@ TEST(SceneObj, CornellBoxOriginalMeshes) {
     objects += std::string(objects.empty() ? "" : ",") + R"({"type": "mesh", "file": ")" +
                test::SharedPath("assets/cornell-box-original/meshes/cbox_") + part + ".obj\"}";
   }
-  SceneDesc s = Load(Scene(objects));
+  SceneDesc s = Load(SceneText(objects));
   EXPECT_EQ(s.triangles.size(), 38u);
   EXPECT_EQ(s.skippedDegenerateTriangles, 0);
   vec3 lo(1e9f), hi(-1e9f);
@@ -368,7 +368,7 @@ TEST(SceneObj, MtlMaterialsAndDegenerateFaces) {
   std::ofstream(dir + "/m.obj")
       << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
          "usemtl hot\nf 1 2 3 4\nusemtl light\nf 1 2 3\nf 1 1 3\nf 1 2 5\n";
-  SceneDesc s = Load(Scene(R"({"type": "mesh", "file": "m.obj"})"), dir);
+  SceneDesc s = Load(SceneText(R"({"type": "mesh", "file": "m.obj"})"), dir);
   ASSERT_EQ(s.triangles.size(), 3u);  // the quad's two and one lit triangle
   EXPECT_EQ(s.skippedDegenerateTriangles, 2);
   EXPECT_TRUE(AnyWarningContains(s, "skipped 2 degenerate triangles"));

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "src/core/math.h"
+#include "tests/z_scores.h"
 
 namespace pt::test {
 
@@ -259,8 +260,6 @@ inline ChiSquareResult ChiSquareDirections(const DirectionSampler& sample,
 
 // ---- Means with variance-derived tolerances ----
 
-// z such that P(|N(0,1)| > z) = 1e-4: the two-sided false-alarm rate every test here uses.
-constexpr double kZ1e4 = 3.890591886;
 
 struct MeanEstimate {
   double mean = 0.0;

@@ -12,9 +12,9 @@
 # start by mpirun is refused (tests/mpi_run_test.cpp, NoMpiBuild); the MPI tests themselves run
 # in the main build.
 #
-# Build type "Asan": -O1 -g1 for the renderer (line tables for readable reports, and about half
-# the compile time of -O2 -g on two cores), the tests' own code at -O0 (tests/CMakeLists.txt).
-# From scratch on 2 idle cores: ~7 minutes to build and ~3 minutes of tests.
+# Build type "Asan": -O1 -g1 (line tables for readable reports, and about half the compile time
+# of -O2 -g on two cores). From scratch on 2 idle cores: ~7 minutes to build and ~3 minutes of
+# tests.
 #
 # Nothing is excluded: every test runs well under 60 s here (the slowest under ASan at -O1 on
 # 2 cores: BvhTraversal.MatchesBruteForceOnSoups ~19 s, IntegratorAgreement.* ~15 s,
