@@ -109,23 +109,19 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// The queries the renderer's stages run for this scene: without instances, and with no material
-// asking for a hit test (alpha, back-face culling), the traversal compiled without that test.
+// The queries the renderer's stages run for this scene: with no material asking for a hit test
+// (alpha, back-face culling), the traversal compiled without that test.
 struct Queries {
   const SceneView& view;
-  bool general;  // instances or hit tests: the run-time dispatch of traverse.h
+  bool hitTests;
 
   bool Closest(const Ray& ray, HitRecord* hit, TraversalCounters* counters) const {
-    if (general) return IntersectClosest(view, ray, kInfinity, hit, counters);
-    return view.bvhLayout == BvhLayout::kWide
-               ? IntersectClosestIn<BvhLayout::kWide, false>(view, ray, kInfinity, hit, counters)
-               : IntersectClosestIn<BvhLayout::kBinary, false>(view, ray, kInfinity, hit, counters);
+    return hitTests ? IntersectClosest<true>(view, ray, kInfinity, hit, counters)
+                    : IntersectClosest<false>(view, ray, kInfinity, hit, counters);
   }
   bool Any(const Ray& ray) const {
-    if (general) return IntersectAny(view, ray, kInfinity, nullptr);
-    return view.bvhLayout == BvhLayout::kWide
-               ? IntersectAnyIn<BvhLayout::kWide, false>(view, ray, kInfinity, nullptr)
-               : IntersectAnyIn<BvhLayout::kBinary, false>(view, ray, kInfinity, nullptr);
+    return hitTests ? IntersectAny<true>(view, ray, kInfinity, nullptr)
+                    : IntersectAny<false>(view, ray, kInfinity, nullptr);
   }
 };
 
@@ -148,8 +144,7 @@ void RunOne(const Args& args, const SceneDesc& desc, BvhBuilder builder, BvhLayo
   double cpuRate = 0.0;
   uint64_t hitsClosest = 0, hitsAny = 0;
   TraversalCounters work;
-  const Queries q{view, view.instanceCount != 0 ||
-                            (AnalyzeEffects(scene) & (kEffectAlpha | kEffectBackfaceCulling)) != 0};
+  const Queries q{view, (AnalyzeEffects(scene) & (kEffectAlpha | kEffectBackfaceCulling)) != 0};
   for (const Ray& r : std::vector<Ray>(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 100000))) {
     HitRecord hit;
     q.Closest(r, &hit, &work);

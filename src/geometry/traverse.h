@@ -113,7 +113,8 @@ PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCo
 }
 
 // The same in the layout and structure the view names (a run-time choice; stages instantiate
-// per variant).
+// per variant). kHitTest = false: no material asks for a hit test (instances always run it).
+template <bool kHitTest = true>
 PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                              TraversalCounters* counters) {
   hit->instance = kNoInstance;
@@ -123,10 +124,11 @@ PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, Hit
                : IntersectClosestInstanced<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
   }
   return s.bvhLayout == BvhLayout::kWide
-             ? IntersectClosestIn<BvhLayout::kWide>(s, ray, tMax, hit, counters)
-             : IntersectClosestIn<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
+             ? IntersectClosestIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, hit, counters)
+             : IntersectClosestIn<BvhLayout::kBinary, kHitTest>(s, ray, tMax, hit, counters);
 }
 
+template <bool kHitTest = true>
 PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
   if (s.instanceCount != 0) {
@@ -135,8 +137,8 @@ PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                : IntersectAnyInstanced<BvhLayout::kBinary>(s, ray, tMax, counters);
   }
   return s.bvhLayout == BvhLayout::kWide
-             ? IntersectAnyIn<BvhLayout::kWide>(s, ray, tMax, counters)
-             : IntersectAnyIn<BvhLayout::kBinary>(s, ray, tMax, counters);
+             ? IntersectAnyIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, counters)
+             : IntersectAnyIn<BvhLayout::kBinary, kHitTest>(s, ray, tMax, counters);
 }
 
 }  // namespace pt
