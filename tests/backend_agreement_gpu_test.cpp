@@ -13,9 +13,7 @@
 namespace pt::test {
 namespace {
 
-bool HaveGpu() { return CudaDeviceCount() > 0; }
-
-SceneDesc SmallScene(const std::string& file, int size, int spp, uint32_t seed) {
+SceneDesc SeededSceneDesc(const std::string& file, int size, int spp, uint32_t seed) {
   SceneDesc desc = LoadScene(file);
   desc.render.width = desc.render.height = size;
   desc.render.spp = spp;
@@ -32,8 +30,8 @@ TEST(BackendAgreementGpu, EveryProjectSceneAgreesWithCpu) {
     if (entry.path().extension() != ".json") continue;
     std::vector<std::vector<double>> cpu, gpu;  // [seed][block]
     for (int k = 0; k < kSeeds; ++k) {
-      Scene a = BuildScene(SmallScene(entry.path().string(), kSize, kSpp, 1000 + k));
-      Scene b = BuildScene(SmallScene(entry.path().string(), kSize, kSpp, 2000 + k));
+      Scene a = BuildScene(SeededSceneDesc(entry.path().string(), kSize, kSpp, 1000 + k));
+      Scene b = BuildScene(SeededSceneDesc(entry.path().string(), kSize, kSpp, 2000 + k));
       cpu.push_back(BlockLuminance(RenderOnCpu(a).image));
       gpu.push_back(BlockLuminance(RenderCuda(b, RenderOptions{}).image));
     }
@@ -49,7 +47,8 @@ TEST(BackendAgreementGpu, EveryProjectSceneAgreesWithCpu) {
 // same code on the same random numbers, so the image is bit-identical.
 TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  Scene scene = BuildScene(SmallScene(SourcePath("scenes/cornell_glass_mirror.json"), 64, 8, 5));
+  Scene scene =
+      BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 8, 5));
   RenderOptions base;
   base.compact = Toggle::kOff;
   base.sort = SortMode::kOff;
@@ -69,7 +68,7 @@ TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
 
 TEST(BackendAgreementGpu, StatisticsAreFilledOnTheGpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  Scene scene = BuildScene(SmallScene(SourcePath("scenes/cornell_box.json"), 64, 4, 1));
+  Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_box.json"), 64, 4, 1));
   RenderResult r = RenderCuda(scene, RenderOptions{});
   EXPECT_EQ(r.stats.backend, "cuda");
   EXPECT_FALSE(r.stats.device.empty());

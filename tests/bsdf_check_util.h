@@ -15,8 +15,6 @@
 
 namespace pt::test {
 
-constexpr double kChiSquareAlpha = 1e-4;  // per-assertion false-alarm probability
-
 inline vec3 Spherical(double theta, double phi) { return SphericalToDirection(theta, phi); }
 
 // ---- Chi-square with accurate bin probabilities ----

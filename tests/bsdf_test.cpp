@@ -18,7 +18,7 @@ namespace {
 
 using test::kZ1e4;
 
-constexpr double kAlpha = 1e-4;  // per-assertion false-alarm probability
+using test::kChiSquareAlpha;  // per-assertion false-alarm probability
 
 using test::Uniform;
 
@@ -90,8 +90,8 @@ TEST(BsdfTest, CosineHemisphereSamplingMatchesPdf) {
   auto sample = [&](vec3* w) { *w = SampleCosineHemisphere(u.Get2()); return true; };
   auto pdf = [](vec3 w) { return double(CosineHemispherePdf(w.z)); };
   test::ChiSquareResult r = test::ChiSquareDirections(sample, pdf, 400000);
-  // Chi-square goodness of fit: false-alarm probability kAlpha = 1e-4.
-  EXPECT_GT(r.pValue, kAlpha) << r.message;
+  // Chi-square goodness of fit: false-alarm probability kChiSquareAlpha = 1e-4.
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;
 }
 
 TEST(BsdfTest, DiffuseSamplingMatchesPdf) {
@@ -110,9 +110,9 @@ TEST(BsdfTest, DiffuseSamplingMatchesPdf) {
     };
     auto pdf = [&](vec3 w) { return double(PdfBsdf(m, wo, w)); };
     test::ChiSquareResult r = test::ChiSquareDirections(sample, pdf, 200000);
-    // Chi-square goodness of fit: false-alarm probability kAlpha = 1e-4 per direction.
-    EXPECT_GT(r.pValue, kAlpha) << "wo = " << wo.x << " " << wo.y << " " << wo.z << ": "
-                                << r.message;
+    // Chi-square goodness of fit: false-alarm probability kChiSquareAlpha = 1e-4 per direction.
+    EXPECT_GT(r.pValue, kChiSquareAlpha) << "wo = " << wo.x << " " << wo.y << " " << wo.z << ": "
+                                         << r.message;
     EXPECT_EQ(mismatches, 0);
   }
 }
@@ -205,9 +205,9 @@ void CheckGlassFrequencies(float ior, float cosThetaO, uint32_t seed) {
     }
   }
   double p = test::BinomialTwoSidedPValue(n, reflections, expectR);
-  // Exact two-sided binomial test: false-alarm probability <= kAlpha = 1e-4.
-  EXPECT_GT(p, kAlpha) << "ior " << ior << " cos " << cosThetaO << ": " << reflections << " of "
-                       << n << ", expected R = " << expectR;
+  // Exact two-sided binomial test: false-alarm probability <= kChiSquareAlpha = 1e-4.
+  EXPECT_GT(p, kChiSquareAlpha) << "ior " << ior << " cos " << cosThetaO << ": " << reflections
+                                << " of " << n << ", expected R = " << expectR;
 }
 
 TEST(BsdfTest, GlassReflectRefractFrequenciesFollowFresnel) {

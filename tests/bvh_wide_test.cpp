@@ -21,7 +21,7 @@ using hard::BuildShapes;
 using hard::ShapeScene;
 using test::BruteForceClosest;
 // Uniform on the sphere (z and azimuth uniform).
-vec3 RandomUnit(std::mt19937& rng) {
+vec3 RandomDir(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   float z = 1.0f - 2.0f * u(rng), phi = 6.2831853f * u(rng), r = std::sqrt(1.0f - z * z);
   return vec3(r * std::cos(phi), r * std::sin(phi), z);
@@ -48,16 +48,16 @@ Soup MakeSoup(uint32_t seed) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
   Soup s;
   for (int i = 0; i < 1500; ++i) {
-    vec3 c = RandomUnit(rng);
+    vec3 c = RandomDir(rng);
     float r = 0.08f * u01(rng);
-    s.tris.push_back({c + r * RandomUnit(rng), c + r * RandomUnit(rng), c + r * RandomUnit(rng)});
+    s.tris.push_back({c + r * RandomDir(rng), c + r * RandomDir(rng), c + r * RandomDir(rng)});
   }
   for (int i = 0; i < 60; ++i) {
     vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
-    s.tris.push_back({a, b, b + 0.02f * RandomUnit(rng)});
+    s.tris.push_back({a, b, b + 0.02f * RandomDir(rng)});
   }
   for (int i = 0; i < 40; ++i)
-    s.quads.push_back({vec3(u(rng), u(rng), u(rng)), 0.3f * RandomUnit(rng), 0.2f * RandomUnit(rng)});
+    s.quads.push_back({vec3(u(rng), u(rng), u(rng)), 0.3f * RandomDir(rng), 0.2f * RandomDir(rng)});
   for (int i = 0; i < 40; ++i) s.spheres.push_back({vec3(u(rng), u(rng), u(rng)), 0.1f * u01(rng)});
   return s;
 }
@@ -74,7 +74,7 @@ std::vector<Ray> MakeRays(const Soup& s, int count, uint32_t seed) {
   std::vector<Ray> rays;
   for (int i = 0; i < count; ++i) {
     if (i % 2 == 0) {
-      rays.push_back(Ray{vec3(u(rng), u(rng), u(rng)), RandomUnit(rng)});
+      rays.push_back(Ray{vec3(u(rng), u(rng), u(rng)), RandomDir(rng)});
       continue;
     }
     const Triangle& t = s.tris[rng() % s.tris.size()];
@@ -157,7 +157,7 @@ Aabb WideChildBox(const WideBvhNode& n, int slot) {
   return box;
 }
 
-bool Contains(const Aabb& outer, const Aabb& inner) {
+bool BoxContains(const Aabb& outer, const Aabb& inner) {
   for (int a = 0; a < 3; ++a)
     if (inner.lo[a] < outer.lo[a] || inner.hi[a] > outer.hi[a]) return false;
   return true;
@@ -185,7 +185,7 @@ Aabb CheckWideSubtree(const Scene& scene, const SceneView& view, uint32_t index,
         }
       }
     }
-    EXPECT_TRUE(Contains(WideChildBox(n, slot), child)) << "node " << index << " slot " << slot;
+    EXPECT_TRUE(BoxContains(WideChildBox(n, slot), child)) << "node " << index << " slot " << slot;
     all.Extend(child);
   }
   return all;
@@ -251,7 +251,7 @@ TEST(BvhWide, SbvhLowersTheSahCostOfLongTriangles) {
   std::vector<Triangle> tris;
   for (int i = 0; i < 3000; ++i) {
     vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
-    tris.push_back({a, b, a + 0.01f * RandomUnit(rng)});
+    tris.push_back({a, b, a + 0.01f * RandomDir(rng)});
   }
   ShapeScene sah = BuildShapes(tris, {}, {}, Options(BvhLayout::kBinary, BvhBuilder::kSah));
   ShapeScene sbvh = BuildShapes(tris, {}, {}, Options(BvhLayout::kBinary, BvhBuilder::kSbvh));

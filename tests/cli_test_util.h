@@ -35,13 +35,6 @@ inline std::string WriteText(const std::string& path, const std::string& text) {
   return path;
 }
 
-inline std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 // Runs the binary with arguments; returns its exit status and keeps its output.
 inline int RunPathtracer(const std::string& args, std::string* output = nullptr) {
   std::string text;

@@ -2,8 +2,6 @@
 // count, compaction or sort setting, and whatever the number of paths in flight.
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 
@@ -20,10 +18,6 @@ RenderResult RenderGlassMirror(int threads, Toggle compact, SortMode sort, size_
   opt.sort = sort;
   opt.maxPathsInFlight = pathsInFlight;
   return RenderCpu(BuildScene(std::move(desc)), opt);
-}
-
-bool BitIdentical(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 TEST(Determinism, BitIdenticalAcrossThreadsCompactionSortAndWaveSize) {

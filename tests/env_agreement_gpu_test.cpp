@@ -6,13 +6,12 @@
 
 #include "tests/env_test_util.h"
 #include "tests/render_test_util.h"
+#include "tests/test_util.h"
 
 namespace pt::test {
 namespace {
 
-bool HaveGpu() { return CudaDeviceCount() > 0; }
-
-std::string SceneText(const std::string& environment, const std::string& ball, int seed,
+std::string SceneWith(const std::string& environment, const std::string& ball, int seed,
                   const std::string& lights = "[]") {
   return R"({"render": {"width": 48, "height": 48, "spp": 64, "max_depth": 4, "seed": )" +
          std::to_string(seed) + R"(},
@@ -44,8 +43,8 @@ void ExpectAgree(const std::string& a, const std::string& b, RenderOptions optio
 
 TEST(EnvAgreementGpu, SkyAndSunDiskMatchTheCpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  ExpectAgree(SceneText(kSky, kDiffuse, 1), SceneText(kSky, kDiffuse, 2), {}, "sky, diffuse");
-  ExpectAgree(SceneText(kSky, kGlossy, 3), SceneText(kSky, kGlossy, 4), {}, "sky, glossy");
+  ExpectAgree(SceneWith(kSky, kDiffuse, 1), SceneWith(kSky, kDiffuse, 2), {}, "sky, diffuse");
+  ExpectAgree(SceneWith(kSky, kGlossy, 3), SceneWith(kSky, kGlossy, 4), {}, "sky, glossy");
 }
 
 TEST(EnvAgreementGpu, MapSamplingStrategiesMatchTheCpu) {
@@ -53,11 +52,11 @@ TEST(EnvAgreementGpu, MapSamplingStrategiesMatchTheCpu) {
   std::string map = R"("environment": {"file": "sky.pfm", "rotate": [10, 60, 0]})";
   RenderOptions uniform;
   uniform.envSampling = EnvSampling::kUniform;
-  ExpectAgree(SceneText(map, kDiffuse, 5), SceneText(map, kDiffuse, 6), {}, "map, importance");
-  ExpectAgree(SceneText(map, kGlossy, 7), SceneText(map, kGlossy, 8), uniform, "map, uniform");
+  ExpectAgree(SceneWith(map, kDiffuse, 5), SceneWith(map, kDiffuse, 6), {}, "map, importance");
+  ExpectAgree(SceneWith(map, kGlossy, 7), SceneWith(map, kGlossy, 8), uniform, "map, uniform");
   std::string hidden = R"("environment": {"file": "sky.pfm", "visible_to_camera": false,
       "camera_color": [0.1, 0.2, 0.3]})";
-  ExpectAgree(SceneText(hidden, kDiffuse, 9), SceneText(hidden, kDiffuse, 10), {}, "map, hidden");
+  ExpectAgree(SceneWith(hidden, kDiffuse, 9), SceneWith(hidden, kDiffuse, 10), {}, "map, hidden");
 }
 
 TEST(EnvAgreementGpu, DeltaSunMatchesTheCpu) {
@@ -65,7 +64,7 @@ TEST(EnvAgreementGpu, DeltaSunMatchesTheCpu) {
   std::string sun = R"([{"type": "directional", "direction": [0.3, -1, -0.4],
       "irradiance": [3, 2.5, 2]}])";
   std::string env = R"("background": [0.1, 0.15, 0.2])";
-  ExpectAgree(SceneText(env, kGlossy, 11, sun), SceneText(env, kGlossy, 12, sun), {}, "delta sun");
+  ExpectAgree(SceneWith(env, kGlossy, 11, sun), SceneWith(env, kGlossy, 12, sun), {}, "delta sun");
 }
 
 }  // namespace

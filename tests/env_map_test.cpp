@@ -20,7 +20,7 @@ namespace {
 
 using test::kZ1e4;
 using test::Uniform;
-constexpr double kAlpha = 1e-4;
+using test::kChiSquareAlpha;  // per-assertion false-alarm probability
 
 // A scene with only an environment map (and optionally directional lights), its light table
 // and view built as BuildScene would.
@@ -167,7 +167,7 @@ TEST(EnvMapTest, SampledDirectionsFollowTheEvaluatedPdf) {
   smooth.Build();
   // Chi-square per texel: false-alarm probability 1e-4.
   test::ChiSquareResult r = TexelChiSquare(smooth, 400000, 1);
-  EXPECT_GT(r.pValue, kAlpha) << r.message;
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;
   // And over bins that cut across texels, by the shared chi-square helper (Simpson's rule of
   // the pdf, finer where it jumps): the rotated map's pdf as a density on the sphere.
   Uniform u(2);
@@ -182,7 +182,7 @@ TEST(EnvMapTest, SampledDirectionsFollowTheEvaluatedPdf) {
   o.phiBins = 20;
   o.refine = 64;
   r = test::ChiSquareDirections(sample, pdf, 400000, o);
-  EXPECT_GT(r.pValue, kAlpha) << r.message;  // false-alarm probability 1e-4
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;  // false-alarm probability 1e-4
 }
 
 TEST(EnvMapTest, TinyHotSpotIsSampledInProportion) {
@@ -192,7 +192,7 @@ TEST(EnvMapTest, TinyHotSpotIsSampledInProportion) {
   MapScene m(w, map);
   m.Build();
   test::ChiSquareResult r = TexelChiSquare(m, 400000, 3);
-  EXPECT_GT(r.pValue, kAlpha) << r.message;  // false-alarm probability 1e-4
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;  // false-alarm probability 1e-4
 }
 
 TEST(EnvMapTest, OneBrightTexelIsAllThatIsSampledAndItsDirectionIsKnown) {
@@ -236,7 +236,7 @@ TEST(EnvMapTest, UniformSamplingIsUniform) {
   };
   auto pdf = [&](vec3 d) { return double(EnvMapPdf(m.view, d)); };
   test::ChiSquareResult r = test::ChiSquareDirections(sample, pdf, 200000);
-  EXPECT_GT(r.pValue, kAlpha) << r.message;  // false-alarm probability 1e-4
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;  // false-alarm probability 1e-4
 }
 
 // Mean over n light samples of L.x max(cos, 0) / pdf at the origin, normal nrm.

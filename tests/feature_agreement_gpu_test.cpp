@@ -13,8 +13,6 @@
 namespace pt::test {
 namespace {
 
-bool HaveGpu() { return CudaDeviceCount() > 0; }
-
 Scene CornellSmall(uint32_t seed, int spp) {
   SceneDesc d = LoadScene(SourcePath("scenes/cornell_glass_mirror.json"));
   d.render.width = d.render.height = 48;

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <bit>
-#include <cstring>
 #include <random>
 
 #include "src/integrator/wave_plan.h"
@@ -40,12 +39,6 @@ FilmState RandomFilm(uint32_t w, uint32_t h, bool doubleFilm, bool features) {
   return f;
 }
 
-template <typename T>
-bool SameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() &&
-         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
 TEST(FilmStateExr, TheStateComesBackBitForBit) {
   std::string dir = test::TempDir();
   for (bool doubleFilm : {false, true}) {
@@ -59,14 +52,14 @@ TEST(FilmStateExr, TheStateComesBackBitForBit) {
       EXPECT_EQ(back.description, "{\"format\": 1}");
       EXPECT_EQ(back.film.width, 7u);
       EXPECT_EQ(back.film.height, 5u);
-      EXPECT_TRUE(SameBits(back.film.mean, film.mean));
-      EXPECT_TRUE(SameBits(back.film.m2, film.m2));
-      EXPECT_TRUE(SameBits(back.film.lumMean, film.lumMean));
-      EXPECT_TRUE(SameBits(back.film.lumM2, film.lumM2));
+      EXPECT_TRUE(test::BitIdentical(back.film.mean, film.mean));
+      EXPECT_TRUE(test::BitIdentical(back.film.m2, film.m2));
+      EXPECT_TRUE(test::BitIdentical(back.film.lumMean, film.lumMean));
+      EXPECT_TRUE(test::BitIdentical(back.film.lumM2, film.lumM2));
       EXPECT_EQ(back.film.count, film.count);
-      EXPECT_TRUE(SameBits(back.film.albedoSum, film.albedoSum));
-      EXPECT_TRUE(SameBits(back.film.normalSum, film.normalSum));
-      EXPECT_TRUE(SameBits(back.film.depthSum, film.depthSum));
+      EXPECT_TRUE(test::BitIdentical(back.film.albedoSum, film.albedoSum));
+      EXPECT_TRUE(test::BitIdentical(back.film.normalSum, film.normalSum));
+      EXPECT_TRUE(test::BitIdentical(back.film.depthSum, film.depthSum));
       // The image a viewer sees is there too.
       int w = 0, h = 0;
       std::vector<float> rgb;

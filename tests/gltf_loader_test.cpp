@@ -12,22 +12,17 @@
 namespace pt {
 namespace {
 
-void Append(std::vector<char>& bin, const void* data, size_t bytes) {
-  const char* p = static_cast<const char*>(data);
-  bin.insert(bin.end(), p, p + bytes);
-}
-
 // Writes the model into dir/m.gltf and dir/m.bin.
 void WriteModel(const std::string& dir) {
   std::vector<char> bin;
   const float positions[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};  // a unit square's corners
   const uint8_t strip[4] = {0, 1, 2, 3}, fan[4] = {0, 1, 3, 2}, sparseIndex[4] = {2, 0, 0, 0};
   const float sparseValue[3] = {0, 5, 0};
-  Append(bin, positions, 48);
-  Append(bin, strip, 4);
-  Append(bin, fan, 4);
-  Append(bin, sparseIndex, 4);
-  Append(bin, sparseValue, 12);
+  test::AppendRaw(bin, positions, 48);
+  test::AppendRaw(bin, strip, 4);
+  test::AppendRaw(bin, fan, 4);
+  test::AppendRaw(bin, sparseIndex, 4);
+  test::AppendRaw(bin, sparseValue, 12);
   std::ofstream(dir + "/m.bin", std::ios::binary).write(bin.data(), std::streamsize(bin.size()));
   std::ofstream(dir + "/m.gltf") << R"({
     "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],

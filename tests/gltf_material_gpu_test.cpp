@@ -12,8 +12,6 @@
 namespace pt::test {
 namespace {
 
-bool HaveGpu() { return CudaDeviceCount() > 0; }
-
 // The four quadrants' interiors of a size x size image.
 std::vector<Window> Quadrants(int size) {
   int h = size / 2, m = size / 16 + 1;

@@ -206,7 +206,7 @@ TEST(GltfPbrTest, TransmissiveWhiteFurnaceNeverCreatesEnergy) {
 
 // ---- Sampling against the pdf ----
 
-std::vector<vec3> Views() {
+std::vector<vec3> PbrViews() {
   return {vec3(0, 0, 1), glm::normalize(vec3(0.6f, 0.0f, 0.8f)),
           glm::normalize(vec3(-0.95f, 0.1f, 0.1f)), glm::normalize(vec3(0.3f, -0.4f, -0.866f))};
 }
@@ -221,7 +221,7 @@ TEST(GltfPbrTest, SamplingMatchesPdf) {
   uint32_t seed = 300;
   for (const Material& m : cases) {
     ASSERT_TRUE(HasNonDeltaLobe(m));
-    for (vec3 wo : Views()) test::CheckLobe(m, wo, seed++, 100000);
+    for (vec3 wo : PbrViews()) test::CheckLobe(m, wo, seed++, 100000);
   }
 }
 

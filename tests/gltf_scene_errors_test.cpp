@@ -39,7 +39,9 @@ const std::map<std::string, std::string>& GltfCorpus() {
   return corpus;
 }
 
-std::string Dir(const std::string& sub) { return test::SourcePath("tests/malformed/" + sub); }
+std::string MalformedDir(const std::string& sub) {
+  return test::SourcePath("tests/malformed/" + sub);
+}
 
 std::vector<std::string> FilesIn(const std::string& dir, bool gltfOnly) {
   std::vector<std::string> names;
@@ -63,21 +65,21 @@ std::string Refusal(const std::string& path, const LoadOptions& options = {}) {
 }
 
 TEST(GltfSceneErrors, CorpusMatchesItsList) {
-  std::vector<std::string> files = FilesIn(Dir("gltf"), true);
+  std::vector<std::string> files = FilesIn(MalformedDir("gltf"), true);
   for (const std::string& f : files) EXPECT_TRUE(GltfCorpus().count(f)) << f << " is not listed";
   EXPECT_EQ(files.size(), GltfCorpus().size());
 }
 
 TEST(GltfSceneErrors, EveryBrokenFileIsASceneErrorNamingFileAndPart) {
   for (const auto& [name, phrase] : GltfCorpus()) {
-    std::string path = Dir("gltf") + "/" + name;
+    std::string path = MalformedDir("gltf") + "/" + name;
     std::string m = Refusal(path);
     EXPECT_EQ(m.rfind(path + ": ", 0), 0u) << name << ": the message does not start with the file: " << m;
     EXPECT_NE(m.find(phrase), std::string::npos) << name << ": '" << phrase << "' in: " << m;
   }
   // The broken mesh files the JSON corpus includes, now as the whole scene.
-  for (const std::string& name : FilesIn(Dir("meshes"), false)) {
-    std::string path = Dir("meshes") + "/" + name;
+  for (const std::string& name : FilesIn(MalformedDir("meshes"), false)) {
+    std::string path = MalformedDir("meshes") + "/" + name;
     std::string m = Refusal(path);
     EXPECT_EQ(m.rfind(path + ": ", 0), 0u) << name << ": the message does not start with the file: " << m;
   }
@@ -108,10 +110,10 @@ TEST(GltfSceneErrors, CliExitsTwoNamingTheFileAndWritesNothing) {
   std::string dir = test::TempDir();
   std::string good = WriteGoodScene(dir);
   for (const auto& entry : GltfCorpus()) {
-    test::ExpectRefusedWritingNothing(Dir("gltf") + "/" + entry.first, "", dir);
+    test::ExpectRefusedWritingNothing(MalformedDir("gltf") + "/" + entry.first, "", dir);
   }
-  for (const std::string& name : FilesIn(Dir("meshes"), false)) {
-    test::ExpectRefusedWritingNothing(Dir("meshes") + "/" + name, "", dir);
+  for (const std::string& name : FilesIn(MalformedDir("meshes"), false)) {
+    test::ExpectRefusedWritingNothing(MalformedDir("meshes") + "/" + name, "", dir);
   }
   test::ExpectRefusedWritingNothing(good, "--camera Back", dir);
   test::ExpectRefusedWritingNothing(dir + "/absent.glb", "", dir);

@@ -13,10 +13,8 @@
 namespace pt {
 namespace {
 
-using Json = test::GltfSceneWriter::Json;
-
 // dir/model.gltf: the floor (a red file material), cameras "Front" and "Top", a point light.
-std::string WriteModel(const std::string& dir) {
+std::string WriteIncludedModel(const std::string& dir) {
   test::GltfSceneWriter w;
   w.doc["materials"] = {{{"name", "red"}, {"pbrMetallicRoughness",
                                            {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0}}}}};
@@ -30,8 +28,8 @@ std::string WriteModel(const std::string& dir) {
   return w.Write(dir, "model");
 }
 
-SceneDesc Load(const std::string& dir, const std::string& camera, const std::string& object,
-               const std::string& cameraOption = "") {
+SceneDesc LoadAt(const std::string& dir, const std::string& camera, const std::string& object,
+                 const std::string& cameraOption = "") {
   std::string text = R"({"render": {"width": 8, "height": 8, "spp": 1, "max_depth": 2},
       "camera": )" + camera + R"(, "materials": {"grey": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
       "objects": [)" + object + R"(], "lights": [{"type": "point", "position": [0, 3, 0], "intensity": [1, 1, 1]}]})";
@@ -51,24 +49,24 @@ void ExpectSameCamera(const CameraDesc& a, const CameraDesc& b) {
 
 TEST(GltfSceneInclude, CameraFromTheFileByNameIndexOrCameraOption) {
   std::string dir = test::TempDir();
-  GltfSceneContents parts = ReadGltfSceneParts(WriteModel(dir));
+  GltfSceneContents parts = ReadGltfSceneParts(WriteIncludedModel(dir));
   ASSERT_EQ(parts.cameras.size(), 2u);
-  ExpectSameCamera(Load(dir, R"({"from_file": "model.gltf"})", kModel).camera, parts.cameras[0].desc);
-  ExpectSameCamera(Load(dir, R"({"from_file": "model.gltf", "name": "Top"})", kModel).camera,
+  ExpectSameCamera(LoadAt(dir, R"({"from_file": "model.gltf"})", kModel).camera, parts.cameras[0].desc);
+  ExpectSameCamera(LoadAt(dir, R"({"from_file": "model.gltf", "name": "Top"})", kModel).camera,
                    parts.cameras[1].desc);
-  ExpectSameCamera(Load(dir, R"({"from_file": "model.gltf", "index": 1})", kModel).camera,
+  ExpectSameCamera(LoadAt(dir, R"({"from_file": "model.gltf", "index": 1})", kModel).camera,
                    parts.cameras[1].desc);
   // --camera overrides the scene's choice.
-  ExpectSameCamera(Load(dir, R"({"from_file": "model.gltf", "name": "Top"})", kModel, "Front").camera,
+  ExpectSameCamera(LoadAt(dir, R"({"from_file": "model.gltf", "name": "Top"})", kModel, "Front").camera,
                    parts.cameras[0].desc);
-  EXPECT_FLOAT_EQ(Load(dir, R"({"from_file": "model.gltf", "fov_y": 25})", kModel).camera.fovY, 25.0f);
+  EXPECT_FLOAT_EQ(LoadAt(dir, R"({"from_file": "model.gltf", "fov_y": 25})", kModel).camera.fovY, 25.0f);
 }
 
 TEST(GltfSceneInclude, CameraFromTheFileMovedByATransform) {
   std::string dir = test::TempDir();
-  GltfSceneContents parts = ReadGltfSceneParts(WriteModel(dir));
-  CameraDesc moved = Load(dir, R"({"from_file": "model.gltf", "transform": {"translate": [2, 0, 0]}})",
-                          kModel).camera;
+  GltfSceneContents parts = ReadGltfSceneParts(WriteIncludedModel(dir));
+  CameraDesc moved = LoadAt(dir, R"({"from_file": "model.gltf", "transform": {"translate": [2, 0, 0]}})",
+                            kModel).camera;
   const CameraDesc& front = parts.cameras[0].desc;
   EXPECT_NEAR(moved.position.x, front.position.x + 2.0f, 1e-6f);
   EXPECT_NEAR(moved.position.y, front.position.y, 1e-6f);
@@ -78,13 +76,13 @@ TEST(GltfSceneInclude, CameraFromTheFileMovedByATransform) {
 
 TEST(GltfSceneInclude, UnknownCameraOfTheFileNamesTheFieldAndListsTheCameras) {
   std::string dir = test::TempDir();
-  WriteModel(dir);
+  WriteIncludedModel(dir);
   for (const auto& [camera, field] :
        {std::pair<std::string, std::string>{R"({"from_file": "model.gltf", "name": "Back"})", "camera.from_file: "},
         {R"({"from_file": "model.gltf", "index": 7})", "camera.from_file: "},
         {R"({"from_file": "absent.gltf"})", "camera.from_file: "}}) {
     try {
-      Load(dir, camera, kModel);
+      LoadAt(dir, camera, kModel);
       ADD_FAILURE() << camera << " was accepted";
     } catch (const SceneError& e) {
       std::string m = e.what();
@@ -97,13 +95,13 @@ TEST(GltfSceneInclude, UnknownCameraOfTheFileNamesTheFieldAndListsTheCameras) {
 
 TEST(GltfSceneInclude, FileLightsAndMaterialsKeptOrReplaced) {
   std::string dir = test::TempDir();
-  WriteModel(dir);
+  WriteIncludedModel(dir);
   const char* camera = R"({"position": [0, 1, 4], "look_at": [0, 0, 0], "fov_y": 40})";
-  SceneDesc kept = Load(dir, camera, kModel);
+  SceneDesc kept = LoadAt(dir, camera, kModel);
   EXPECT_EQ(kept.pointLights.size(), 2u);  // the scene's and the file's
   ASSERT_FALSE(kept.triangleMaterials.empty());
   EXPECT_EQ(kept.materials[kept.triangleMaterials[0]].albedo, vec3(1, 0, 0));
-  SceneDesc replaced = Load(dir, camera,
+  SceneDesc replaced = LoadAt(dir, camera,
                             R"({"type": "mesh", "file": "model.gltf", "material": "grey",
                                 "lights_from_file": false})");
   EXPECT_EQ(replaced.pointLights.size(), 1u);

@@ -15,9 +15,9 @@
 namespace pt {
 namespace {
 
-using Json = test::GltfSceneWriter::Json;
+using GltfJson = test::GltfSceneWriter::Json;
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+using test::kDeg;
 
 // Where a world point lands in normalised image coordinates ([-1, 1] inside); false behind.
 bool Project(const Camera& c, vec3 p, vec2* ndc) {
@@ -43,11 +43,6 @@ glm::dmat4 SideMatrix() {
          glm::rotate(glm::dmat4(1.0), -20.0 * kDeg, glm::dvec3(1, 0, 0));
 }
 
-Json Quaternion(double degrees, glm::dvec3 axis) {  // glTF order: x, y, z, w
-  double h = 0.5 * degrees * kDeg;
-  return {axis.x * std::sin(h), axis.y * std::sin(h), axis.z * std::sin(h), std::cos(h)};
-}
-
 // Cameras 0 "Main" (a node matrix, aspect 2), 1 "Side" (TRS, placed first in the walk),
 // 2 "Ortho" (orthographic), 3 "Unplaced" (no node places it); all under a rotated, scaled and
 // moved root with the floor.
@@ -60,14 +55,14 @@ std::string WriteCameraScene(const std::string& dir) {
   w.AddCamera(test::GltfSceneWriter::Perspective(0.6, 0.0, "Unplaced"));
   int floor = w.AddFloor(1.0f);
   glm::dmat4 main = MainMatrix();
-  Json matrix = Json::array();
+  GltfJson matrix = GltfJson::array();
   for (int i = 0; i < 16; ++i) matrix.push_back(main[i / 4][i % 4]);  // column-major
   int side = w.AddNode({{"name", "SideNode"}, {"camera", 1}, {"translation", {0, 0, 5}},
-                        {"rotation", Quaternion(-20, {1, 0, 0})}}, false);
+                        {"rotation", test::GltfRotation(-20, {1, 0, 0})}}, false);
   int mainNode = w.AddNode({{"name", "MainNode"}, {"camera", 0}, {"matrix", matrix}}, false);
   int ortho = w.AddNode({{"name", "OrthoNode"}, {"camera", 2}, {"translation", {0, 0, 3}}}, false);
   int mesh = w.AddNode({{"mesh", floor}}, false);
-  w.AddNode({{"translation", {1, 2, 3}}, {"rotation", Quaternion(90, {0, 1, 0})},
+  w.AddNode({{"translation", {1, 2, 3}}, {"rotation", test::GltfRotation(90, {0, 1, 0})},
              {"scale", {2, 2, 2}}, {"children", {side, mainNode, ortho, mesh}}});
   return w.Write(dir, "cameras");
 }
@@ -259,8 +254,8 @@ TEST(GltfScene, IgnoredPartsAreOneSummaryLine) {
     int light = w.AddLight({{"type", "point"}, {"range", 5.0 + i}});
     w.AddNode(test::GltfSceneWriter::LightNode(light, {{"translation", {0, 1 + i, 0}}}));
   }
-  Json ortho = {{"type", "orthographic"},
-                {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}};
+  GltfJson ortho = {{"type", "orthographic"},
+                    {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}};
   for (int i = 0; i < 2; ++i) w.AddNode({{"camera", w.AddCamera(ortho)}});
   w.doc["extensionsUsed"].push_back("KHR_xmp");
   w.doc["extensionsUsed"].push_back("KHR_texture_transform");  // read by the materials

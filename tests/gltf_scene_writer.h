@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -14,6 +15,14 @@
 #include "src/core/math.h"
 
 namespace pt::test {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;  // radians per degree
+
+// A node's "rotation": `degrees` about the unit `axis`, a quaternion in glTF's order x, y, z, w.
+inline nlohmann::json GltfRotation(double degrees, glm::dvec3 axis) {
+  double h = 0.5 * degrees * kDeg;
+  return {axis.x * std::sin(h), axis.y * std::sin(h), axis.z * std::sin(h), std::cos(h)};
+}
 
 class GltfSceneWriter {
  public:

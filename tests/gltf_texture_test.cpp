@@ -21,7 +21,7 @@ const uint8_t kTexels[4][4] = {{255, 0, 0, 10}, {0, 255, 0, 255}, {0, 0, 255, 12
 // dir/m.gltf + m.bin + tex.png. Primitives in order: B (1 triangle, no UVs, material
 // `firstMaterial`), A (the square, float UVs, "checker"), C (ubyte UVs, "metal"), D (ushort
 // TEXCOORD_1, "second-set"), E (no UVs, "checker").
-void WriteModel(const std::string& dir, int firstMaterial = 1) {
+void WriteUvModel(const std::string& dir, int firstMaterial = 1) {
   const float positions[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
   const float uvs[8] = {0, 1, 1, 1, 1, 0, 0, 0};
   const uint8_t indices[8] = {0, 1, 2, 0, 2, 3, 0, 0};  // 2 bytes of padding
@@ -102,7 +102,7 @@ void ExpectUv(vec2 got, vec2 want) {
 
 TEST(GltfTextures, HandWrittenModelUvsTexelsSamplersAndMaterials) {
   std::string dir = test::TempDir();
-  WriteModel(dir);
+  WriteUvModel(dir);
   SceneDesc s = LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf"})");
   ASSERT_EQ(s.triangles.size(), 6u);
   ASSERT_EQ(s.triangleUvs.size(), 6u);
@@ -183,7 +183,7 @@ TEST(GltfTextures, HandWrittenModelUvsTexelsSamplersAndMaterials) {
 // An image a used material needs and stb cannot decode is bad input: the picture would lose it.
 TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsAnErrorNamingFileMaterialAndImage) {
   std::string dir = test::TempDir();
-  WriteModel(dir, /*firstMaterial=*/2);
+  WriteUvModel(dir, /*firstMaterial=*/2);
   try {
     LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf"})");
     ADD_FAILURE() << "the undecodable image was accepted";
@@ -197,7 +197,7 @@ TEST(GltfTextures, UndecodableImageOfAUsedMaterialIsAnErrorNamingFileMaterialAnd
 
 TEST(GltfTextures, OverrideDecodesNothingAndOptionalArraysStayParallel) {
   std::string dir = test::TempDir();
-  WriteModel(dir);
+  WriteUvModel(dir);
   std::ofstream(dir + "/tri.obj") << "v 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\nf 1 2 3\nf 2 4 3\n";
   // The scene's material reads no texture: nothing is decoded and no coordinates are kept.
   SceneDesc grey = LoadMeshes(dir, R"({"type": "mesh", "file": "m.gltf", "material": "grey"})");

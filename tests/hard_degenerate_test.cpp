@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/hard_geometry_util.h"
+#include "tests/test_util.h"
 
 namespace pt {
 namespace {
@@ -89,11 +90,6 @@ f 9 10 11
   CheckRendersFinite(scene);
 }
 
-void Append(std::vector<char>& bin, const void* data, size_t bytes) {
-  const char* p = static_cast<const char*>(data);
-  bin.insert(bin.end(), p, p + bytes);
-}
-
 // glTF: the same kinds plus NaN coordinates, as binary floats, indexed by uint16.
 TEST(HardGeometry, DegenerateGltfTrianglesAreSkippedAndCounted) {
   std::string dir = test::TempDir();
@@ -114,8 +110,8 @@ TEST(HardGeometry, DegenerateGltfTrianglesAreSkippedAndCounted) {
                               0, 12, 13};                         // overflowing normal
   const int skipped = 11;
   std::vector<char> bin;
-  Append(bin, positions, sizeof(positions));
-  Append(bin, indices, sizeof(indices));
+  test::AppendRaw(bin, positions, sizeof(positions));
+  test::AppendRaw(bin, indices, sizeof(indices));
   while (bin.size() % 4) bin.push_back(0);
   std::ofstream(dir + "/d.bin", std::ios::binary).write(bin.data(), std::streamsize(bin.size()));
   size_t vertexCount = sizeof(positions) / 12, indexCount = sizeof(indices) / 2;

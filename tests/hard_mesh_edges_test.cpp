@@ -14,10 +14,6 @@ using namespace pt::hard;
 
 // ---- Shared edges and vertices far from the origin ----
 
-std::vector<Triangle> Icosphere(dvec3 center, double radius, int subdivisions) {
-  return test::IcosphereTriangles(center, radius, subdivisions);
-}
-
 // A closed, tessellated axis-aligned cube whose grid coordinates are each one float.
 std::vector<Triangle> TessellatedCube(dvec3 center, double half, int n, std::vector<float> grid[3]) {
   for (int a = 0; a < 3; ++a) {
@@ -55,8 +51,8 @@ std::vector<Triangle> TessellatedCube(dvec3 center, double half, int n, std::vec
 // (1 + tan(incidence)) < 2 for rays aimed inside the inner ball (incidence < 35 deg); the
 // renderer's own rounding of p - o adds a few eps |p - o|. Tolerance: 8 eps |o|_1 + 64 eps dist
 // (1.4e-2 at 1e4, against a slip-through error of at least the mesh's chord, > 0.5 radius).
-int TraceAtEdges(const ShapeScene& s, const std::vector<Triangle>& tris, dvec3 center,
-                 double innerRadius, int rays, uint32_t seed) {
+int TraceAtMeshEdges(const ShapeScene& s, const std::vector<Triangle>& tris, dvec3 center,
+                     double innerRadius, int rays, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   std::normal_distribution<double> g;
@@ -91,16 +87,16 @@ TEST_P(HardLayout, WatertightAtSharedEdgesOfMeshesFarFromTheOrigin) {
   struct Case { dvec3 center; double radius; };
   for (Case c : {Case{dvec3(1e4, -1e4, 1e4), 1.0}, Case{dvec3(1e4, 1e4, -1e4), 1e3},
                  Case{dvec3(-1e5, 2e5, 1e5), 50.0}}) {
-    std::vector<Triangle> sphere = Icosphere(c.center, c.radius, 4);
+    std::vector<Triangle> sphere = test::IcosphereTriangles(c.center, c.radius, 4);
     ShapeScene s = BuildShapes(sphere);
-    EXPECT_EQ(TraceAtEdges(s, sphere, c.center, 0.5 * c.radius, 40000, 11), 0)
+    EXPECT_EQ(TraceAtMeshEdges(s, sphere, c.center, 0.5 * c.radius, 40000, 11), 0)
         << "icosphere at " << c.center.x << " radius " << c.radius;
   }
   dvec3 center(1e4 + 0.3, -1e4 + 0.7, 1e4 - 0.2);
   std::vector<float> grid[3];
   std::vector<Triangle> cube = TessellatedCube(center, 1.0, 12, grid);
   ShapeScene s = BuildShapes(cube);
-  EXPECT_EQ(TraceAtEdges(s, cube, center, 0.8, 40000, 12), 0);
+  EXPECT_EQ(TraceAtMeshEdges(s, cube, center, 0.8, 40000, 12), 0);
 
   // Axis-aligned rays exactly through the grid's vertices and along its edges' lines, where the
   // edge functions are exactly 0 and the double-precision fallback decides: every one must hit

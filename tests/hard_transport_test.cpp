@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -27,6 +26,7 @@
 #include "src/integrator/stages/generate.h"
 #include "src/io/scene_loader.h"
 #include "src/materials/bsdf.h"
+#include "tests/hard_geometry_util.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 
@@ -34,14 +34,8 @@ namespace pt::test {
 namespace {
 
 using glm::dvec3;
-
-constexpr double kEps = 0x1p-24;
-
-std::string Fmt(double v) {  // for RecordProperty: 3 significant digits, any magnitude
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.3g", v);
-  return buf;
-}
+using hard::Fmt;
+using hard::kEps;
 
 // z with P(|Z| > z) = p for a standard normal (bisection on erfc).
 double TwoSidedZ(double p) {
@@ -100,7 +94,7 @@ int CompareBlocks(const FilmImage& a, const FilmImage& b, int block, double alph
 
 // ---- Total internal reflection at the critical angle (BSDF level) ----
 
-Material Glass(float ior) {
+Material SmoothGlass(float ior) {
   Material m;
   m.type = MaterialType::kDielectric;
   m.ior = ior;
@@ -160,14 +154,14 @@ TEST(HardTransport, TotalInternalReflectionAtAndNearTheCriticalAngle) {
     }
     return true;
   };
-  EXPECT_TRUE(alwaysReflects(Glass(2.0f), c));
+  EXPECT_TRUE(alwaysReflects(SmoothGlass(2.0f), c));
   float pastCritical = c;
   for (int k = 0; k < 64; ++k, pastCritical = std::nextafter(pastCritical, 0.0f))
-    EXPECT_TRUE(alwaysReflects(Glass(2.0f), pastCritical)) << "cos " << pastCritical;
+    EXPECT_TRUE(alwaysReflects(SmoothGlass(2.0f), pastCritical)) << "cos " << pastCritical;
 
   // ior 1.5: a float sweep across the critical cosine sqrt(5) / 3.
   const double eta = 1.5, critical = std::sqrt(1.0 - 1.0 / (eta * eta));
-  Material glass = Glass(1.5f);
+  Material glass = SmoothGlass(1.5f);
   int past = 0, below = 0, failures = 0;
   for (float p = float(critical - 2e-3); p < float(critical + 2e-3); p = std::nextafter(p, 1.0f)) {
     double exact = ExactFresnel(-double(p), eta);
@@ -365,10 +359,6 @@ TEST(HardTransport, AreaLitRoomRendersTheSameAtScales1em4To1e5) {
 
 // ---- Self-intersection: mirrors and glass ----
 
-std::vector<Triangle> Icosphere(dvec3 center, double radius, int subdivisions) {
-  return test::IcosphereTriangles(center, radius, subdivisions);
-}
-
 // The scene of a JSON file plus flat-shaded triangles of material index `material`.
 Scene WithTriangles(SceneDesc desc, const std::vector<Triangle>& tris, uint32_t material) {
   for (const Triangle& t : tris) {
@@ -406,7 +396,8 @@ TEST(HardTransport, PerfectMirrorsInUniformEnvironmentAreExactlyL) {
                                                         R"(, "material": "mirror"})") +
                        "]}";
     SceneDesc desc = DescFromJson(json);
-    Scene scene = c.mesh ? WithTriangles(std::move(desc), Icosphere(c.offset, 1.2 * c.scale, 3), 0)
+    Scene scene = c.mesh ? WithTriangles(std::move(desc),
+                                         IcosphereTriangles(c.offset, 1.2 * c.scale, 3), 0)
                          : BuildScene(std::move(desc));
     RenderResult res = RenderChecked(scene);
     int bad = 0;
@@ -532,7 +523,7 @@ TEST(HardTransport, GlassIcosphereIsInvisibleInUniformEnvironment) {
       "background": [1.5, 1.5, 1.5],
       "materials": {"glass": {"type": "dielectric", "ior": 1.5}},
       "objects": []})";
-    Scene scene = WithTriangles(DescFromJson(json), Icosphere(center, scale, 3), 0);
+    Scene scene = WithTriangles(DescFromJson(json), IcosphereTriangles(center, scale, 3), 0);
     RenderResult res = RenderChecked(scene);
     int off = 0;
     for (size_t i = 0; i < res.image.rgb.size(); ++i) {

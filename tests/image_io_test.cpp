@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "src/io/image_io.h"
 #include "tests/test_util.h"
@@ -39,13 +38,6 @@ FilmImage TestImage(int width, int height) {
   for (size_t i = 0; i < pixels * 3; ++i) image.variance.push_back(0.5f * float(i));
   for (size_t i = 0; i < pixels; ++i) image.samples.push_back(uint32_t(10 + i));
   return image;
-}
-
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
 }
 
 size_t EntryCount(const std::string& dir) {
@@ -146,7 +138,7 @@ TEST(ImageIo, PfmIsBottomToTopLittleEndianScaleMinusOne) {
   std::string path = test::TempDir() + "/out.pfm";
   FilmImage image = TestImage(3, 2);
   WriteImage(path, image);
-  std::string bytes = ReadBytes(path);
+  std::string bytes = test::ReadText(path);
   std::string header = "PF\n3 2\n-1.0\n";
   ASSERT_EQ(bytes.size(), header.size() + 3 * 2 * 3 * 4);
   EXPECT_EQ(bytes.substr(0, header.size()), header);
@@ -204,7 +196,7 @@ TEST(ImageIo, FailedWriteLeavesNoFileAndKeepsTheOldOne) {
   std::string old = dir + "/old.pfm";
   std::ofstream(old) << "old";
   EXPECT_THROW(WriteImage(old, bad), ImageError);
-  EXPECT_EQ(ReadBytes(old), "old");
+  EXPECT_EQ(test::ReadText(old), "old");
 
   // A rename that fails (the target is a folder) removes its temporary file.
   fs::create_directory(dir + "/folder.exr");
@@ -220,7 +212,7 @@ TEST(ImageIo, WriteReplacesAnExistingFile) {
   std::string path = dir + "/out.pfm";
   std::ofstream(path) << "old contents";
   WriteImage(path, TestImage(2, 2));
-  EXPECT_EQ(ReadBytes(path).substr(0, 3), "PF\n");
+  EXPECT_EQ(test::ReadText(path).substr(0, 3), "PF\n");
   EXPECT_EQ(EntryCount(dir), 1u);
 }
 
@@ -240,7 +232,7 @@ TEST(ImageIo, CheckWritableLeavesTheFolderAsItWas) {
   std::string existing = dir + "/kept.exr";
   std::ofstream(existing) << "kept";
   EXPECT_TRUE(CheckWritable(existing, &why)) << why;
-  EXPECT_EQ(ReadBytes(existing), "kept");
+  EXPECT_EQ(test::ReadText(existing), "kept");
   EXPECT_EQ(EntryCount(dir), 1u);
 }
 

@@ -42,7 +42,7 @@ std::string InstancedScene(const std::string& objects, int size = 48, int spp = 
        "material": "lamp"})" + objects + "]}";
 }
 
-SceneDesc Load(const std::string& json) {
+SceneDesc LoadInstancing(const std::string& json) {
   return LoadSceneFromString(json, "instancing-test.json", ".");
 }
 
@@ -52,10 +52,6 @@ BvhBuildOptions Layout(BvhLayout layout) {
   return options;
 }
 
-bool BitIdentical(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 // Identity placements: each instanced triangle is the flattened one, so every ray meets the same
 // surfaces with the same numbers, and the lights come in the same order.
 TEST(Instancing, IdentityPlacementsRenderBitForBitAsTheFlattenedScene) {
@@ -63,7 +59,7 @@ TEST(Instancing, IdentityPlacementsRenderBitForBitAsTheFlattenedScene) {
       {"type": "instance", "mesh": "shapes"},
       {"type": "instance", "mesh": "small", "material": "lamp"})";
   for (BvhLayout layout : {BvhLayout::kBinary, BvhLayout::kWide}) {
-    SceneDesc desc = Load(InstancedScene(objects));
+    SceneDesc desc = LoadInstancing(InstancedScene(objects));
     ASSERT_EQ(desc.meshes.size(), 2u);
     ASSERT_EQ(desc.instances.size(), 2u);
     Scene instanced = BuildScene(desc, Layout(layout));
@@ -114,7 +110,7 @@ const char* kGeneralPlacements = R"(,
 TEST(Instancing, GeneralTransformsAgreeWithTheFlattenedSceneBlockByBlock) {
   auto render = [](bool flatten) {
     return [flatten](int seed) {
-      SceneDesc desc = Load(InstancedScene(kGeneralPlacements, 48, 8, seed));
+      SceneDesc desc = LoadInstancing(InstancedScene(kGeneralPlacements, 48, 8, seed));
       if (flatten) desc = FlattenInstances(std::move(desc));
       RenderResult r = RenderOnCpu(BuildScene(std::move(desc)));
       EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
@@ -128,7 +124,7 @@ TEST(Instancing, GeneralTransformsAgreeWithTheFlattenedSceneBlockByBlock) {
 // mesh, in object space (the same arithmetic: the hit distance must match exactly), and against
 // the flattened scene's world-space triangles (a few ulps apart: the transform rounds).
 TEST(Instancing, TwoLevelHitsMatchBruteForceInObjectAndWorldSpace) {
-  SceneDesc desc = Load(InstancedScene(kGeneralPlacements));
+  SceneDesc desc = LoadInstancing(InstancedScene(kGeneralPlacements));
   Scene flat = BuildScene(FlattenInstances(desc));
   SceneView flatView = HostSceneView(flat);
   for (BvhLayout layout : {BvhLayout::kBinary, BvhLayout::kWide}) {
@@ -169,19 +165,11 @@ TEST(Instancing, TwoLevelHitsMatchBruteForceInObjectAndWorldSpace) {
 
 // What a fresh build and a moved-then-rebuilt scene must share: the top level, the instance
 // table and the light distribution (scaling an emissive instance changes its lights' power).
-// Byte-equal arrays of structs (memcmp only where there are bytes: data() of an empty vector
-// may be null).
-template <typename T>
-bool SameBytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() &&
-         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
 void ExpectSameTopLevel(const Scene& a, const Scene& b) {
-  EXPECT_TRUE(SameBytes(a.instances, b.instances));
+  EXPECT_TRUE(BitIdentical(a.instances, b.instances));
   EXPECT_EQ(a.instanceOrder, b.instanceOrder);
-  EXPECT_TRUE(SameBytes(a.tlasNodes, b.tlasNodes));
-  EXPECT_TRUE(SameBytes(a.tlasWideNodes, b.tlasWideNodes));
+  EXPECT_TRUE(BitIdentical(a.tlasNodes, b.tlasNodes));
+  EXPECT_TRUE(BitIdentical(a.tlasWideNodes, b.tlasWideNodes));
   EXPECT_EQ(a.lightPmf, b.lightPmf);
   EXPECT_EQ(a.lightCdf, b.lightCdf);
   EXPECT_EQ(a.sceneCenter, b.sceneCenter);
@@ -190,7 +178,7 @@ void ExpectSameTopLevel(const Scene& a, const Scene& b) {
 
 TEST(Instancing, MovingAnInstanceAndRebuildingTheTopLevelEqualsAFreshBuild) {
   for (BvhLayout layout : {BvhLayout::kBinary, BvhLayout::kWide}) {
-    SceneDesc desc = Load(InstancedScene(kGeneralPlacements, 32, 4));
+    SceneDesc desc = LoadInstancing(InstancedScene(kGeneralPlacements, 32, 4));
     Scene moved = BuildScene(desc, Layout(layout));
     size_t nodesBefore = moved.NodeCount();
     std::vector<PrimRef> primsBefore = moved.prims;
@@ -216,7 +204,7 @@ TEST(Instancing, MovingAnInstanceAndRebuildingTheTopLevelEqualsAFreshBuild) {
 // A live session (what the preview server holds): the scene's top level rebuilt after a move,
 // TopLevelChanged re-reads only that; the next film is the fresh moved scene's, bit for bit.
 TEST(Instancing, ASessionSeesTheMovedInstancesAfterTopLevelChanged) {
-  SceneDesc desc = Load(InstancedScene(kGeneralPlacements, 32, 4));
+  SceneDesc desc = LoadInstancing(InstancedScene(kGeneralPlacements, 32, 4));
   Scene scene = BuildScene(desc);
   RenderOptions options;
   options.threads = 2;
@@ -234,7 +222,7 @@ TEST(Instancing, ASessionSeesTheMovedInstancesAfterTopLevelChanged) {
 }
 
 TEST(Instancing, BadMovesAreRefused) {
-  Scene scene = BuildScene(Load(InstancedScene(kGeneralPlacements, 16, 1)));
+  Scene scene = BuildScene(LoadInstancing(InstancedScene(kGeneralPlacements, 16, 1)));
   EXPECT_THROW(UpdateInstanceTransform(scene, 99, glm::dmat4(1.0)), std::invalid_argument);
   EXPECT_THROW(UpdateInstanceTransform(scene, 0, glm::dmat4(0.0)), std::invalid_argument);
   glm::dmat4 projective(1.0);
@@ -250,7 +238,7 @@ TEST(Instancing, BadMovesAreRefused) {
 // not perpendicular to y grow by up to 3).
 TEST(Instancing, EmissiveInstancesEmitByTheirWorldArea) {
   auto instancePower = [](const std::string& transform) {
-    Scene scene = BuildScene(Load(InstancedScene(
+    Scene scene = BuildScene(LoadInstancing(InstancedScene(
         R"(, {"type": "instance", "mesh": "small", "material": "lamp", "transform": )" +
             transform + "}", 16, 1)));
     double power = 0.0;
@@ -269,7 +257,7 @@ TEST(Instancing, EmissiveInstancesEmitByTheirWorldArea) {
 
 // Flat scenes pay nothing: no instance table, no top level, the single-level query.
 TEST(Instancing, FlatScenesHaveNoTopLevel) {
-  Scene scene = BuildScene(Load(InstancedScene("", 16, 1)));
+  Scene scene = BuildScene(LoadInstancing(InstancedScene("", 16, 1)));
   EXPECT_FALSE(scene.HasInstances());
   EXPECT_TRUE(scene.tlasNodes.empty());
   EXPECT_TRUE(scene.tlasWideNodes.empty());

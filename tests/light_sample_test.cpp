@@ -17,7 +17,7 @@ namespace pt {
 namespace {
 
 using test::kZ1e4;
-constexpr double kAlpha = 1e-4;
+using test::kChiSquareAlpha;  // per-assertion false-alarm probability
 constexpr double kRoundOff = 1e-5;  // relative float round-off allowance on irradiance means
 
 using test::Uniform;
@@ -335,7 +335,7 @@ TEST(LightSampleTest, LightChoiceFollowsPmf) {
   for (int i = 0; i < 5; ++i) expected[i] = n * double(ls.view.lightPmf[i]);
   test::ChiSquareResult r = test::PearsonChiSquare(observed, expected, double(n), 5.0);
   // Chi-square goodness of fit of the multinomial counts: false-alarm probability 1e-4.
-  EXPECT_GT(r.pValue, kAlpha) << r.message;
+  EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;
 }
 
 TEST(LightSampleTest, MixedSceneIrradianceAndLightPdf) {
@@ -406,8 +406,8 @@ TEST(LightSampleTest, MixedSceneDirectionsFollowLightPdf) {
     test::ChiSquareOptions o;
     o.refine = 128;  // light outlines cut bins: integrate those finely (error ~1/128)
     test::ChiSquareResult r = test::ChiSquareDirections(sample, pdf, 200000, o);
-    // Chi-square goodness of fit: false-alarm probability kAlpha = 1e-4 per point.
-    EXPECT_GT(r.pValue, kAlpha) << r.message;
+    // Chi-square goodness of fit: false-alarm probability kChiSquareAlpha = 1e-4 per point.
+    EXPECT_GT(r.pValue, kChiSquareAlpha) << r.message;
   }
 }
 

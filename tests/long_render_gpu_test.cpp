@@ -11,12 +11,11 @@
 #include "src/io/image_io.h"
 #include "tests/cli_test_util.h"
 #include "tests/render_test_util.h"
+#include "tests/test_util.h"
 #include "tests/welch.h"
 
 namespace pt {
 namespace {
-
-bool HaveGpu() { return CudaDeviceCount() > 0; }
 
 // The --hdr EXR as a film image: mean, variance and sample counts.
 FilmImage ReadHdr(const std::string& path) {
@@ -35,7 +34,7 @@ FilmImage ReadHdr(const std::string& path) {
 }
 
 TEST(LongRenderGpu, AStoppedAndResumedRenderAgreesWithAnUninterruptedOne) {
-  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
+  if (!test::HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
   std::string dir = test::TempDir(), out;
   std::string scene = test::SourcePath("scenes/cornell_box.json");
   // Three waves a sample (4096 pixels, 1500 paths): a stop leaves pixels a sample apart.
@@ -83,7 +82,7 @@ TEST(LongRenderGpu, AStoppedAndResumedRenderAgreesWithAnUninterruptedOne) {
 }
 
 TEST(LongRenderGpu, OutOfGpuMemoryIsExitThreeWithAHint) {
-  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
+  if (!test::HaveGpu()) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
   std::string dir = test::TempDir(), out;
   // About 2e9 paths of 120+ bytes: far beyond any GPU's memory.
   std::string args = test::SourcePath("scenes/cornell_box.json") + " -o " + dir +

@@ -2,8 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "src/io/scene_loader.h"
 #include "tests/test_util.h"
@@ -11,19 +9,14 @@
 namespace pt {
 namespace {
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(MeshGenerator, RegeneratesTheCommittedGlbByteForByte) {
   std::string tool = test::BinaryPath("make_mesh_glb");
   if (!std::filesystem::exists(tool)) GTEST_SKIP() << "make_mesh_glb is not built: " << tool;
   std::string out = test::TempDir() + "/smooth_shapes.glb";
   std::string log;
   ASSERT_EQ(test::RunCommand("'" + tool + "' '" + out + "'", &log), 0) << log;
-  std::string generated = ReadBytes(out);
-  std::string committed = ReadBytes(test::SourcePath("scenes/meshes/smooth_shapes.glb"));
+  std::string generated = test::ReadText(out);
+  std::string committed = test::ReadText(test::SourcePath("scenes/meshes/smooth_shapes.glb"));
   ASSERT_FALSE(committed.empty());
   EXPECT_EQ(generated.size(), committed.size());
   EXPECT_TRUE(generated == committed)

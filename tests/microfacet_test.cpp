@@ -28,7 +28,7 @@ using test::GridFor;
 using test::kZ1e4;
 using test::RelativeDifference;
 
-constexpr double kAlpha = test::kChiSquareAlpha;  // per-assertion false-alarm probability
+using test::kChiSquareAlpha;  // per-assertion false-alarm probability
 
 using test::Uniform;
 
@@ -123,8 +123,9 @@ TEST(MicrofacetTest, VisibleNormalSamplingMatchesPdf) {
       auto sample = [&](vec3* wm) { *wm = d.SampleVisibleNormal(w, u.Get2()); return true; };
       auto pdf = [&](vec3 wm) { return wm.z > 0 ? double(d.VisibleD(w, wm)) : 0.0; };
       test::ChiSquareResult r = ChiSquareAccurate(sample, pdf, 100000, grid);
-      // Chi-square goodness of fit: false-alarm probability kAlpha = 1e-4 per case.
-      EXPECT_GT(r.pValue, kAlpha) << "alpha " << alpha << " w.z " << w.z << ": " << r.message;
+      // Chi-square goodness of fit: false-alarm probability kChiSquareAlpha = 1e-4 per case.
+      EXPECT_GT(r.pValue, kChiSquareAlpha) << "alpha " << alpha << " w.z " << w.z << ": "
+                                           << r.message;
     }
   }
 }

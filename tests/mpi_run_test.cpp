@@ -12,8 +12,6 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -47,15 +45,8 @@ std::string Pathtracer(const std::string& args) {
          " " + args;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // Every channel of two EXR files, compared bit for bit.
-void ExpectSameExr(const std::string& a, const std::string& b) {
+void ExpectBitIdenticalExr(const std::string& a, const std::string& b) {
   for (const char* c : {"R", "G", "B", "variance.R", "variance.G", "variance.B", "samples",
                         "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z",
                         "Z"}) {
@@ -95,9 +86,9 @@ TEST_F(MpiRun, TwoAndThreeRanksGiveTheBitsOfOneProcessWithTheSameChunks) {
       << out;
   ASSERT_EQ(Run(3, "-o " + Path("three.png") + " --hdr " + Path("three.exr") + common, &out), 0)
       << out;
-  ExpectSameExr(Path("one.exr"), Path("two.exr"));
-  ExpectSameExr(Path("one.exr"), Path("three.exr"));
-  EXPECT_EQ(ReadText(Path("one.png")), ReadText(Path("two.png")));
+  ExpectBitIdenticalExr(Path("one.exr"), Path("two.exr"));
+  ExpectBitIdenticalExr(Path("one.exr"), Path("three.exr"));
+  EXPECT_EQ(test::ReadText(Path("one.png")), test::ReadText(Path("two.png")));
 }
 
 TEST_F(MpiRun, OneRankIsAPlainRunAndTwoDifferFromItOnlyByRounding) {
@@ -106,13 +97,13 @@ TEST_F(MpiRun, OneRankIsAPlainRunAndTwoDifferFromItOnlyByRounding) {
                                         Path("plain.exr") + common), &out), 0) << out;
   ASSERT_EQ(Run(1, "-o " + Path("np1.pfm") + " --hdr " + Path("np1.exr") + common, &out), 0)
       << out;
-  ExpectSameExr(Path("plain.exr"), Path("np1.exr"));
+  ExpectBitIdenticalExr(Path("plain.exr"), Path("np1.exr"));
   // Two ranks take the default chunks, min(32, spp) = 6: the bits of one process with those.
   ASSERT_EQ(Run(2, "-o " + Path("np2.pfm") + " --hdr " + Path("np2.exr") + " --stats-json " +
                        Path("np2.json") + common, &out), 0) << out;
   ASSERT_EQ(test::RunCommand(Pathtracer("-o " + Path("ch6.pfm") + " --hdr " + Path("ch6.exr") +
                                         common + " --chunks 6"), &out), 0) << out;
-  ExpectSameExr(Path("ch6.exr"), Path("np2.exr"));
+  ExpectBitIdenticalExr(Path("ch6.exr"), Path("np2.exr"));
   // Against the plain render: float Welford over n samples errs by at most ~n * eps * the
   // largest sample, which is at most |mean| + sqrt(variance * (n - 1)).
   int w = 0, h = 0;
@@ -130,7 +121,7 @@ TEST_F(MpiRun, OneRankIsAPlainRunAndTwoDifferFromItOnlyByRounding) {
     }
   }
   EXPECT_GT(differing, 0u);  // the split does round differently
-  nlohmann::json stats = nlohmann::json::parse(ReadText(Path("np2.json")));
+  nlohmann::json stats = nlohmann::json::parse(test::ReadText(Path("np2.json")));
   const nlohmann::json& mpi = stats.at("mpi");
   EXPECT_EQ(mpi.at("ranks"), 2);
   EXPECT_EQ(mpi.at("chunks"), 6);
@@ -149,7 +140,7 @@ TEST_F(MpiRun, TheTimeLimitEndsEveryRankWithTheImageSoFar) {
   ASSERT_EQ(Run(2, "-o " + Path("t.png") + " --stats-json " + Path("t.json") + kBox +
                        " --spp 1000000 --time-limit 1", &out), 0) << out;
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 30.0);
-  nlohmann::json stats = nlohmann::json::parse(ReadText(Path("t.json")));
+  nlohmann::json stats = nlohmann::json::parse(test::ReadText(Path("t.json")));
   EXPECT_GT(stats.at("spp_mean").get<double>(), 0.0);
   EXPECT_LT(stats.at("spp_mean").get<double>(), 1000000.0);
   EXPECT_TRUE(stats.at("mpi").at("time_limited").get<bool>());
@@ -174,7 +165,7 @@ TEST_F(MpiRun, AFailingRankEndsTheJobWithItsMessageAndTheImageSoFar) {
   for (float s : samples) mean += s / samples.size();
   EXPECT_GT(mean, 0.0);
   EXPECT_LT(mean, 32.0);  // the leaf rank 1 failed on is missing
-  nlohmann::json stats = nlohmann::json::parse(ReadText(Path("f.json")));
+  nlohmann::json stats = nlohmann::json::parse(test::ReadText(Path("f.json")));
   EXPECT_EQ(stats.at("stop_reason"), "failed");
   EXPECT_TRUE(stats.at("interrupted").get<bool>());
   EXPECT_NE(stats.at("mpi").at("ended_early").get<std::string>().find("rank 1"),
@@ -205,12 +196,12 @@ class Background {
     for (const auto& entry : fs::directory_iterator("/proc")) {
       std::string name = entry.path().filename();
       if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-      std::string stat = ReadText(entry.path() / "stat");
+      std::string stat = test::ReadText(entry.path() / "stat");
       size_t close = stat.rfind(')');
       if (close == std::string::npos) continue;
       int ppid = 0;
       if (std::sscanf(stat.c_str() + close + 1, " %*c %d", &ppid) != 1 || ppid != pid_) continue;
-      std::string env = ReadText(entry.path() / "environ");
+      std::string env = test::ReadText(entry.path() / "environ");
       for (size_t at = 0; at < env.size(); at = env.find('\0', at) + 1) {
         if (env.compare(at, want.size() + 1, want + '\0') == 0) return pid_t(std::stoi(name));
         if (env.find('\0', at) == std::string::npos) break;
@@ -220,7 +211,7 @@ class Background {
   }
   // CPU seconds a process has used (0 if it is gone).
   static double CpuSeconds(pid_t pid) {
-    std::string stat = ReadText("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat = test::ReadText("/proc/" + std::to_string(pid) + "/stat");
     size_t close = stat.rfind(')');
     unsigned long user = 0, system = 0;
     if (close == std::string::npos ||
@@ -268,7 +259,7 @@ int SignalRankOne(MpiRun& test, const std::string& dir, int signal, const std::s
   EXPECT_GT(rank1, 0) << "no rank 1 process found";
   if (rank1 > 0) kill(rank1, signal);
   int status = job.Wait(30.0);
-  *out = ReadText(log);
+  *out = test::ReadText(log);
   return status;
 }
 

@@ -14,9 +14,8 @@
 namespace pt::test {
 namespace {
 
-using Json = GltfSceneWriter::Json;
+using GltfJson = GltfSceneWriter::Json;
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr float kAlbedo = 0.6f;
 constexpr int kSize = 33;
 
@@ -28,13 +27,8 @@ double SpecSpotFalloff(double cosAngle, double innerRadians, double outerRadians
   return t * t;
 }
 
-Json Quaternion(double degrees, glm::dvec3 axis) {
-  double h = 0.5 * degrees * kDeg;
-  return {axis.x * std::sin(h), axis.y * std::sin(h), axis.z * std::sin(h), std::cos(h)};
-}
-
 // dir/lights.gltf: the floor y = 0 (half size 20) and one light node.
-std::string WriteLightFile(const std::string& dir, const Json& light, const Json& node) {
+std::string WriteLightFile(const std::string& dir, const GltfJson& light, const GltfJson& node) {
   GltfSceneWriter w;
   w.AddNode({{"mesh", w.AddFloor(20.0f)}});
   w.AddNode(GltfSceneWriter::LightNode(w.AddLight(light), node));
@@ -53,7 +47,7 @@ Scene FloorScene(const std::string& dir, const std::string& lightsJson) {
 }
 
 // Where the ray through image point (x, y) meets the floor.
-vec3 FloorPoint(const Camera& cam, double x, double y) {
+vec3 FloorAt(const Camera& cam, double x, double y) {
   float sx = float((2.0 * x / kSize - 1) * cam.tanHalfFovY * cam.aspect);
   float sy = float((1.0 - 2.0 * y / kSize) * cam.tanHalfFovY);
   vec3 d = glm::normalize(cam.forward + sx * cam.right + sy * cam.up);
@@ -73,7 +67,7 @@ void ExpectFloorRadiance(const Scene& scene, const std::function<vec3(vec3)>& ra
     glm::dvec3 expected(0.0);
     for (int j = 0; j < 16; ++j)
       for (int k = 0; k < 16; ++k)
-        expected += glm::dvec3(radiance(FloorPoint(scene.camera, px + (k + 0.5) / 16, py + (j + 0.5) / 16)));
+        expected += glm::dvec3(radiance(FloorAt(scene.camera, px + (k + 0.5) / 16, py + (j + 0.5) / 16)));
     expected /= 256.0;
     size_t p = size_t(py) * kSize + px;
     for (int c = 0; c < 3; ++c) {
@@ -117,7 +111,7 @@ TEST(PunctualLights, GltfSpotLightFallsOffBetweenItsCones) {
   WriteLightFile(dir,
                  {{"type", "spot"}, {"intensity", 8},
                   {"spot", {{"innerConeAngle", 20 * kDeg}, {"outerConeAngle", 40 * kDeg}}}},
-                 {{"translation", {0, 3, 0}}, {"rotation", Quaternion(-90, {1, 0, 0})}});
+                 {{"translation", {0, 3, 0}}, {"rotation", GltfRotation(-90, {1, 0, 0})}});
   Scene scene = FloorScene(dir, "[]");
   ASSERT_EQ(scene.desc.spotLights.size(), 1u);
   ExpectFloorRadiance(scene, [](vec3 p) { return SpotRadiance(p, vec3(8)); });
@@ -125,7 +119,7 @@ TEST(PunctualLights, GltfSpotLightFallsOffBetweenItsCones) {
 
 TEST(PunctualLights, JsonSpotLightEqualsTheGltfOne) {
   std::string dir = TempDir();
-  WriteLightFile(dir, {{"type", "point"}, {"intensity", 0}}, Json::object());  // dark
+  WriteLightFile(dir, {{"type", "point"}, {"intensity", 0}}, GltfJson::object());  // dark
   Scene scene = FloorScene(dir, R"([{"type": "spot", "position": [0, 3, 0],
       "direction": [0, -1, 0], "intensity": [8, 4, 2], "inner_angle": 20, "outer_angle": 40}])");
   ExpectFloorRadiance(scene, [](vec3 p) { return SpotRadiance(p, vec3(8, 4, 2)); });
@@ -174,7 +168,7 @@ TEST(PunctualLights, SpotPowerIsTheFalloffIntegratedOverTheSphere) {
 TEST(PunctualLights, GltfDirectionalLightIsIrradianceTimesCosine) {
   std::string dir = TempDir();
   WriteLightFile(dir, {{"type", "directional"}, {"intensity", 3}, {"color", {1, 1, 0.5}}},
-                 {{"translation", {50, 50, 50}}, {"rotation", Quaternion(-60, {1, 0, 0})}});
+                 {{"translation", {50, 50, 50}}, {"rotation", GltfRotation(-60, {1, 0, 0})}});
   Scene scene = FloorScene(dir, "[]");
   ASSERT_EQ(scene.desc.directionalLights.size(), 1u);
   vec3 toLight = scene.desc.directionalLights[0].direction;
@@ -189,8 +183,8 @@ TEST(PunctualLights, GltfDirectionalLightIsIrradianceTimesCosine) {
 
 TEST(PunctualLights, FileLightsFollowTheObjectTransformAndCanBeLeftOut) {
   std::string dir = TempDir();
-  WriteLightFile(dir, {{"type", "spot"}, {"intensity", 2}, {"spot", Json::object()}},
-                 {{"translation", {0, 3, 0}}, {"rotation", Quaternion(-90, {1, 0, 0})}});
+  WriteLightFile(dir, {{"type", "spot"}, {"intensity", 2}, {"spot", GltfJson::object()}},
+                 {{"translation", {0, 3, 0}}, {"rotation", GltfRotation(-90, {1, 0, 0})}});
   auto load = [&](const std::string& extra) {
     return LoadSceneFromString(R"({"render": {"width": 4, "height": 4, "spp": 1, "max_depth": 1},
         "camera": {"position": [0, 10, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov_y": 60},

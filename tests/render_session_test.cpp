@@ -2,8 +2,6 @@
 // a one-shot render gives (CPU, bit for bit), since every pixel adds its samples in order.
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 #include "src/integrator/render_session.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -22,10 +20,6 @@ RenderOptions TwoThreads(size_t pathsInFlight = 0) {
   return o;
 }
 
-bool SameBits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 TEST(RenderSession, RangesAddUpToTheOneShotRender) {
   Scene scene = GlassMirror(7);
   RenderResult whole = RenderCpu(scene, TwoThreads());
@@ -33,8 +27,8 @@ TEST(RenderSession, RangesAddUpToTheOneShotRender) {
   EXPECT_EQ(session->RenderRange(0, 3), 40u * 32u * 3u);
   EXPECT_EQ(session->RenderRange(3, 7), 40u * 32u * 4u);
   FilmImage split = session->Image();
-  EXPECT_TRUE(SameBits(whole.image.rgb, split.rgb));
-  EXPECT_TRUE(SameBits(whole.image.variance, split.variance));
+  EXPECT_TRUE(BitIdentical(whole.image.rgb, split.rgb));
+  EXPECT_TRUE(BitIdentical(whole.image.variance, split.variance));
   EXPECT_EQ(split.samples, whole.image.samples);
 }
 
@@ -62,8 +56,8 @@ TEST(RenderSession, ContinuingAnUnevenFilmEqualsTheUninterruptedRender) {
   RenderResult resumed = second->Render();
   EXPECT_EQ(resumed.stats.samples, 40u * 32u * 5u - 1780u);
   EXPECT_DOUBLE_EQ(resumed.stats.sppMean, 5.0);
-  EXPECT_TRUE(SameBits(whole.image.rgb, resumed.image.rgb));
-  EXPECT_TRUE(SameBits(whole.image.variance, resumed.image.variance));
+  EXPECT_TRUE(BitIdentical(whole.image.rgb, resumed.image.rgb));
+  EXPECT_TRUE(BitIdentical(whole.image.variance, resumed.image.variance));
 }
 
 TEST(RenderSession, ResetStartsOverAndACameraChangeTakesEffect) {
@@ -73,7 +67,7 @@ TEST(RenderSession, ResetStartsOverAndACameraChangeTakesEffect) {
   FilmImage before = session->Image();
   session->ResetFilm();
   session->RenderRange(0, 2);
-  EXPECT_TRUE(SameBits(before.rgb, session->Image().rgb));
+  EXPECT_TRUE(BitIdentical(before.rgb, session->Image().rgb));
 
   Camera turned = scene.camera;
   turned.forward = -turned.forward;  // looks out of the box's open side: into the black

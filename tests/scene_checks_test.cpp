@@ -10,8 +10,8 @@ namespace pt {
 namespace {
 
 // A floor at y = 0 seen from above, and whatever light the test adds.
-Scene Build(const std::string& materials, const std::string& objects,
-            const std::string& extra = "") {
+Scene FloorWith(const std::string& materials, const std::string& objects,
+                const std::string& extra = "") {
   std::string text = R"({"render": {"width": 8, "height": 8, "spp": 1, "max_depth": 2},
     "camera": {"position": [0, 1, 3], "look_at": [0, 0.5, 0], "fov_y": 45},
     "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})" +
@@ -38,31 +38,31 @@ bool Mentions(const std::vector<std::string>& warnings, const std::string& part)
 }
 
 TEST(SceneChecks, ALitSceneHasNoWarning) {
-  EXPECT_TRUE(DarkSceneWarnings(Build(kLamp, Lamp(true))).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith(kLamp, Lamp(true))).empty());
   SceneDesc cornell = LoadScene(test::SourcePath("scenes/cornell_box.json"));
   EXPECT_TRUE(DarkSceneWarnings(BuildScene(std::move(cornell))).empty());
 }
 
 TEST(SceneChecks, NoLightAtAll) {
-  std::vector<std::string> w = DarkSceneWarnings(Build("", ""));
+  std::vector<std::string> w = DarkSceneWarnings(FloorWith("", ""));
   ASSERT_EQ(w.size(), 1u);
   EXPECT_TRUE(Mentions(w, "the scene has no light")) << w[0];
   // An emitter of zero radiance and a point light of zero intensity are no light either.
   std::string dark = R"(, "lamp": {"type": "emissive", "radiance": [0, 0, 0]})";
   std::string zeroPoint = R"(, "lights": [{"type": "point", "position": [0, 1, 0], "intensity": [0, 0, 0]}])";
-  EXPECT_TRUE(Mentions(DarkSceneWarnings(Build(dark, Lamp(true), zeroPoint)), "no light"));
+  EXPECT_TRUE(Mentions(DarkSceneWarnings(FloorWith(dark, Lamp(true), zeroPoint)), "no light"));
   // A background alone lights the scene.
-  EXPECT_TRUE(DarkSceneWarnings(Build("", "", R"(, "background": [0.2, 0.2, 0.2])")).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith("", "", R"(, "background": [0.2, 0.2, 0.2])")).empty());
 }
 
 TEST(SceneChecks, SunsSkiesAndMapsAreLight) {
   std::string sun = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [2, 2, 2]}])";
-  EXPECT_TRUE(DarkSceneWarnings(Build("", "", sun)).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith("", "", sun)).empty());
   std::string sky = R"(, "environment": {"sky": {"sun_elevation": 40, "width": 16}})";
-  EXPECT_TRUE(DarkSceneWarnings(Build("", "", sky)).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith("", "", sky)).empty());
   // A sun of zero irradiance lights nothing.
   std::string darkSun = R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [0, 0, 0]}])";
-  EXPECT_TRUE(Mentions(DarkSceneWarnings(Build("", "", darkSun)), "no light"));
+  EXPECT_TRUE(Mentions(DarkSceneWarnings(FloorWith("", "", darkSun)), "no light"));
 }
 
 TEST(SceneChecks, AnEnvironmentIsSeenWithoutObjects) {
@@ -97,28 +97,28 @@ TEST(SceneChecks, PointLightsWithNothingToSee) {
 
 TEST(SceneChecks, AnEmitterFacingAwayFromEverything) {
   // The lamp faces up, away from the floor below it and the camera below its plane.
-  std::vector<std::string> w = DarkSceneWarnings(Build(kLamp, Lamp(false)));
+  std::vector<std::string> w = DarkSceneWarnings(FloorWith(kLamp, Lamp(false)));
   ASSERT_EQ(w.size(), 1u);
   EXPECT_TRUE(Mentions(w, "emissive material \"lamp\" faces away")) << w[0];
   EXPECT_TRUE(Mentions(w, "two_sided")) << w[0];
   // Two-sided, it lights the floor.
   std::string twoSided = R"(, "lamp": {"type": "emissive", "radiance": [5, 5, 5], "two_sided": true})";
-  EXPECT_TRUE(DarkSceneWarnings(Build(twoSided, Lamp(false))).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith(twoSided, Lamp(false))).empty());
   // Something above it (a diffuse ceiling) is lit by it.
   std::string ceiling = R"(, {"type": "quad", "origin": [-1, 3, -1], "u": [2, 0, 0], "v": [0, 0, 2], "material": "white"})";
-  EXPECT_TRUE(DarkSceneWarnings(Build(kLamp, Lamp(false) + ceiling)).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith(kLamp, Lamp(false) + ceiling)).empty());
   // One face of a material lighting the floor is enough: the material is not warned about.
-  EXPECT_TRUE(DarkSceneWarnings(Build(kLamp, Lamp(false) + Lamp(true))).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith(kLamp, Lamp(false) + Lamp(true))).empty());
 }
 
 TEST(SceneChecks, AnEmitterFacingTheCameraOnlyIsSeen) {
   // A lamp on the floor facing +z: nothing lies in front of it, but the camera (z = 3) does.
   std::string lamp = R"(, {"type": "quad", "origin": [-0.2, 0, 0], "u": [0.4, 0, 0], "v": [0, 0.4, 0], "material": "lamp"})";
-  EXPECT_TRUE(DarkSceneWarnings(Build(kLamp, lamp)).empty());
+  EXPECT_TRUE(DarkSceneWarnings(FloorWith(kLamp, lamp)).empty());
   // At the floor's far edge facing -z, away from the camera and the floor (which only
   // touches its plane).
   std::string away = R"(, {"type": "quad", "origin": [-0.2, 0, -1], "u": [0, 0.4, 0], "v": [0.4, 0, 0], "material": "lamp"})";
-  EXPECT_TRUE(Mentions(DarkSceneWarnings(Build(kLamp, away)), "\"lamp\" faces away"));
+  EXPECT_TRUE(Mentions(DarkSceneWarnings(FloorWith(kLamp, away)), "\"lamp\" faces away"));
 }
 
 }  // namespace

@@ -53,7 +53,7 @@ double MeanDifference(const FilmImage& a, const FilmImage& b,
   return pixels.empty() ? 0.0 : sum / double(pixels.size());
 }
 
-bool Contains(const std::vector<std::pair<int, int>>& pixels, std::pair<int, int> p) {
+bool HasPixel(const std::vector<std::pair<int, int>>& pixels, std::pair<int, int> p) {
   return std::find(pixels.begin(), pixels.end(), p) != pixels.end();
 }
 
@@ -102,8 +102,8 @@ TEST(ServeInstances, MovingAnInstanceRebuildsTheTopLevelOnly) {
   ASSERT_FALSE(now.empty());
   EXPECT_LT(MeanX(now), MeanX(was) - 2.0);
   std::vector<std::pair<int, int>> left, arrived;
-  for (const auto& p : was) if (!Contains(now, p)) left.push_back(p);
-  for (const auto& p : now) if (!Contains(was, p)) arrived.push_back(p);
+  for (const auto& p : was) if (!HasPixel(now, p)) left.push_back(p);
+  for (const auto& p : now) if (!HasPixel(was, p)) arrived.push_back(p);
   ASSERT_FALSE(left.empty());
   ASSERT_FALSE(arrived.empty());
   EXPECT_GT(MeanDifference(*before, *after, left), 0.02);

@@ -12,7 +12,7 @@ namespace pt::test {
 namespace {
 
 // Icosphere of radius r with radial vertex normals (what a smooth-shaded export carries).
-void AddIcosphere(SceneDesc& d, vec3 centre, float r, int subdivisions, uint32_t material) {
+void AddSmoothIcosphere(SceneDesc& d, vec3 centre, float r, int subdivisions, uint32_t material) {
   UnitIcosphere m = MakeUnitIcosphere(subdivisions);
   auto at = [&](uint32_t i) { return centre + r * vec3(m.vertices[i]); };
   for (glm::uvec3 f : m.faces) {
@@ -35,7 +35,7 @@ SceneDesc Base(const char* extra) {
 TEST(ShadingNormals, NoLightLeaksThroughASmoothShadedMesh) {
   SceneDesc d = Base(R"(, "lights": [{"type": "point", "position": [0, 0, 0.7],
                                         "intensity": [100, 100, 100]}])");
-  AddIcosphere(d, vec3(0.0f), 1.0f, 1, 0);
+  AddSmoothIcosphere(d, vec3(0.0f), 1.0f, 1, 0);
   RenderResult r = RenderOnCpu(BuildScene(std::move(d)));
   for (size_t i = 0; i < r.image.rgb.size(); ++i)
     ASSERT_EQ(r.image.rgb[i], 0.0f) << "light leaked at pixel " << i / 3;
@@ -46,7 +46,7 @@ TEST(ShadingNormals, NoLightLeaksThroughASmoothShadedMesh) {
 // terminator; measured at under 2% per pixel for this mesh, and no pixel goes black.
 TEST(ShadingNormals, NoBlackTerminatorInAUniformEnvironment) {
   SceneDesc d = Base(R"(, "background": [1, 1, 1])");
-  AddIcosphere(d, vec3(0.0f), 1.0f, 1, 0);
+  AddSmoothIcosphere(d, vec3(0.0f), 1.0f, 1, 0);
   d.render.spp = 256;
   RenderResult r = RenderOnCpu(BuildScene(std::move(d)));
   const float expected = 0.5f;  // albedo * L

@@ -14,8 +14,6 @@
 namespace pt::test {
 namespace {
 
-bool HaveGpu() { return CudaDeviceCount() > 0; }
-
 RenderResult Gpu(const Scene& scene, SortMode sort, SortMethod method, Toggle compact) {
   RenderOptions o;
   o.sort = sort;

@@ -23,6 +23,9 @@
 
 namespace pt::test {
 
+// The alpha the tests assert p > alpha with: each assertion's false-alarm probability.
+constexpr double kChiSquareAlpha = 1e-4;
+
 // A uniformly distributed unit vector (normalised Gaussian triple).
 inline vec3 RandomUnit(std::mt19937& rng) {
   std::normal_distribution<float> g;

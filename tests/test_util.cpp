@@ -8,10 +8,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "src/integrator/render_api.h"
 
 namespace pt::test {
 
@@ -89,5 +93,19 @@ int RunCommand(const std::string& command, std::string* output) {
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
 }
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void AppendRaw(std::vector<char>& bin, const void* data, size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  bin.insert(bin.end(), p, p + bytes);
+}
+
+bool HaveGpu() { return CudaDeviceCount() > 0; }
 
 }  // namespace pt::test

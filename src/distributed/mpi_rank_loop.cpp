@@ -10,10 +10,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Ms(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
 int LowestBit(int r) { return r & -r; }
 
 // Rank r's children in the binomial tree: r + 2^k below r's lowest set bit (every k for 0).
