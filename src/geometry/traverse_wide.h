@@ -217,9 +217,32 @@ PT_HDI uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, 
 
 }  // namespace detail
 
+// On the GPU, a node's hit primitives are tested at once only when enough lanes of the warp have
+// some (Ylitie et al. 2017's postponing): otherwise they wait on the stack as a primitive group
+// while the warp keeps traversing together. At most kWidePostponed such groups at a time, on
+// top of the one entry per level of the tree.
+constexpr int kWidePostponed = 16;
+constexpr int kWideStackCapacity = kWideStackSize + kWidePostponed;
+
+namespace detail {
+
+// Whether this lane's primitives should wait: fewer than a fifth of the active lanes have any.
+PT_HDI bool PostponePrims(bool hasPrims) {
+#if PT_IS_GPU_CODE
+  const uint32_t active = __activemask();
+  const uint32_t withPrims = __ballot_sync(active, hasPrims);
+  return hasPrims && 5 * __popc(withPrims) < __popc(active);
+#else
+  return false;  // one ray at a time: nothing to wait for
+#endif
+}
+
+}  // namespace detail
+
 // Walks a wide BVH: the current node group (interior hits of a node, plus its child base and
 // interior mask) is consumed highest bit first; the rest of a group waits on the stack. Hit
-// primitives go to the leaf callback; *tMax as in the binary traversal.
+// primitives go to the leaf callback; *tMax as in the binary traversal. A stack entry whose mask
+// has no bit above 23 is a postponed primitive group (base, primitive bits).
 template <TraceMode kMode, typename LeafFn>
 PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
                      TraversalCounters* counters) {
@@ -238,17 +261,17 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   }
   uint32_t nodesVisited = 0;
 
-  uint32_t stackBase[kWideStackSize], stackMask[kWideStackSize];
-  int stackSize = 0;
+  uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
+  int stackSize = 0, postponed = 0;
   // A group: base = first interior child, mask = interior hit bits 24-31 | interior mask 0-7.
   // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
   uint32_t groupBase = 0, groupMask = 0x80000000u;
+  uint32_t primBase = 0, primMask = 0;
   for (;;) {
-    uint32_t primBase = 0, primMask = 0;
-    if (groupMask > 0x00ffffffu) {
+    if (primMask == 0 && groupMask > 0x00ffffffu) {
       const uint32_t bit = detail::HighestBit(groupMask);
       groupMask &= ~(1u << bit);
-      if (groupMask > 0x00ffffffu && stackSize < kWideStackSize) {
+      if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) {
         stackBase[stackSize] = groupBase;
         stackMask[stackSize] = groupMask;
         ++stackSize;
@@ -263,12 +286,21 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
       groupMask = (hits & 0xff000000u) | (n.w[3] >> 24);
       primBase = n.w[5];
       primMask = hits & 0x00ffffffu;
+      if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
+          postponed < kWidePostponed && stackSize < kWideStackCapacity) {
+        stackBase[stackSize] = primBase;
+        stackMask[stackSize] = primMask;
+        ++stackSize;
+        ++postponed;
+        primMask = 0;
+      }
     }
     while (primMask != 0) {
       const uint32_t bit = detail::LowestBit(primMask);
       primMask &= primMask - 1u;
       if (leaf(primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
         groupMask = 0;  // done: the stack is dropped below
+        primMask = 0;
         stackSize = 0;
         break;
       }
@@ -276,8 +308,15 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
     if (groupMask <= 0x00ffffffu) {
       if (stackSize == 0) break;
       --stackSize;
-      groupBase = stackBase[stackSize];
-      groupMask = stackMask[stackSize];
+      if (stackMask[stackSize] > 0x00ffffffu) {
+        groupBase = stackBase[stackSize];
+        groupMask = stackMask[stackSize];
+      } else {  // a postponed primitive group
+        primBase = stackBase[stackSize];
+        primMask = stackMask[stackSize];
+        groupMask = 0;
+        --postponed;
+      }
     }
   }
   *tMaxInOut = tMax;
