@@ -12,6 +12,17 @@
 
 #define PT_HDI PT_HD inline
 
+// For the few hot bodies of ray traversal (node and triangle tests): GCC's heuristics left them
+// as calls on the host, where the per-ray constants then go through memory. nvcc inlines them
+// anyway; forcing it there too keeps one definition.
+#if defined(__CUDACC__)
+#define PT_HDI_HOT PT_HD __forceinline__
+#elif defined(__GNUC__)
+#define PT_HDI_HOT inline __attribute__((always_inline))
+#else
+#define PT_HDI_HOT inline
+#endif
+
 #if defined(__CUDA_ARCH__)
 #define PT_IS_GPU_CODE 1
 #else

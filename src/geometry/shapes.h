@@ -55,7 +55,7 @@ struct TriangleRayData {
   int kx, ky, kz;
   float sx, sy, sz;
 
-  PT_HDI static TriangleRayData Make(vec3 d) {
+  PT_HDI_HOT static TriangleRayData Make(vec3 d) {
     TriangleRayData r;
     r.kz = MaxDimension(Abs(d));
     r.kx = r.kz == 2 ? 0 : r.kz + 1;
@@ -68,7 +68,7 @@ struct TriangleRayData {
   }
 
   // Vertex relative to the ray origin, permuted and sheared in x and y (z is scaled later).
-  PT_HDI vec3 Transform(vec3 p, vec3 o) const {
+  PT_HDI_HOT vec3 Transform(vec3 p, vec3 o) const {
     vec3 q = p - o;
     float z = detail::Component(q, kz);
     return vec3(detail::Component(q, kx) + sx * z, detail::Component(q, ky) + sy * z, z);
@@ -78,8 +78,8 @@ struct TriangleRayData {
 // Watertight ray-triangle test; both faces hit. bary = (b1, b2) with
 // p = (1 - b1 - b2) p0 + b1 p1 + b2 p2. Follows pbrt-v4's Triangle::Intersect in float, with
 // the double-precision edge functions on an exact 0 and the conservative t > 0 test.
-PT_HDI bool IntersectTriangle(const Triangle& tri, const Ray& ray, const TriangleRayData& rd,
-                              float tMax, float* tHit, vec2* bary) {
+PT_HDI_HOT bool IntersectTriangle(const Triangle& tri, const Ray& ray, const TriangleRayData& rd,
+                                  float tMax, float* tHit, vec2* bary) {
   vec3 p0t = rd.Transform(tri.p0, ray.o);
   vec3 p1t = rd.Transform(tri.p1, ray.o);
   vec3 p2t = rd.Transform(tri.p2, ray.o);

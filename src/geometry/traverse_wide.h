@@ -87,7 +87,7 @@ struct WideNodeWords {
   uint32_t w[20];
 };
 
-PT_HDI WideNodeWords LoadWideNode(const WideBvhNode* node) {
+PT_HDI_HOT WideNodeWords LoadWideNode(const WideBvhNode* node) {
   WideNodeWords n;
 #if PT_IS_GPU_CODE
   const uint4* p = reinterpret_cast<const uint4*>(node);
@@ -146,7 +146,7 @@ inline __m128 WideBytes(uint32_t w) {
   return _mm_cvtepi32_ps(v);
 }
 
-inline uint32_t IntersectWideChildrenSse(const WideNodeWords& n, const WideRay& r, float tMax,
+inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(const WideNodeWords& n, const WideRay& r, float tMax,
                                          const float adj[3], const float nearD[3],
                                          const float farD[3]) {
   const __m128 tMaxV = _mm_set1_ps(tMax), scale = _mm_set1_ps(kWideFarScale);
@@ -175,7 +175,7 @@ inline uint32_t IntersectWideChildrenSse(const WideNodeWords& n, const WideRay& 
 
 // Bit mask of the children of `n` that the ray enters within [0, tMax]: interior children at
 // bit 24 + (slot ^ octInv), each leaf's primitives at bits [offset, offset + count).
-PT_HDI uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
+PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
   const float px = FloatFromBits(n.w[0]), py = FloatFromBits(n.w[1]), pz = FloatFromBits(n.w[2]);
   const uint32_t e = n.w[3];
   const float adjX = FloatFromBits((e & 0xffu) << 23) * r.invDir.x;
