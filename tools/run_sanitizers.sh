@@ -13,7 +13,7 @@
 # in the main build.
 #
 # Build type "Asan": -O1 -g1 (line tables for readable reports, and about half the compile time
-# of -O2 -g on two cores). From scratch on 2 idle cores: ~7 minutes to build and ~3 minutes of
+# of -O2 -g on two cores). From scratch on 2 idle cores: ~5 minutes to build and ~3.5 minutes of
 # tests.
 #
 # One test is left out by default (PT_SANITIZE_EXCLUDE replaces the list; '' runs everything):
