@@ -153,6 +153,9 @@ class WavefrontIntegrator {
       if (bounce > 0) stats_.extensionRays += alive;
       IntersectClosest(n);
       Shade(wave, n);
+      // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
+      // queues a light sample: after the last bounce there is nothing to trace or compact.
+      if (bounce >= params_.maxDepth) break;
       TraceShadowRays(n);
       if (compact_) alive = n = CompactFinished(n);
       else alive = CountAlive(n);
