@@ -7,11 +7,6 @@
 
 namespace pt {
 namespace mpi {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-}  // namespace
 
 bool RankLoop::PollTransfers() {
   bool busy = false;

@@ -146,9 +146,10 @@ inline __m128 WideBytes(uint32_t w) {
   return _mm_cvtepi32_ps(v);
 }
 
-inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(const WideNodeWords& n, const WideRay& r, float tMax,
-                                         const float adj[3], const float nearD[3],
-                                         const float farD[3]) {
+// always_inline spelled out: host-only code, so not PT_HDI_HOT (whose GPU half is meaningless here).
+inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
+    const WideNodeWords& n, const WideRay& r, float tMax, const float adj[3], const float nearD[3],
+    const float farD[3]) {
   const __m128 tMaxV = _mm_set1_ps(tMax), scale = _mm_set1_ps(kWideFarScale);
   uint32_t hits = 0;
   for (int half = 0; half < 2; ++half) {
@@ -263,6 +264,11 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
 
   uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
   int stackSize = 0, postponed = 0;
+  auto push = [&](uint32_t base, uint32_t mask) {
+    stackBase[stackSize] = base;
+    stackMask[stackSize] = mask;
+    ++stackSize;
+  };
   // A group: base = first interior child, mask = interior hit bits 24-31 | interior mask 0-7.
   // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
   uint32_t groupBase = 0, groupMask = 0x80000000u;
@@ -271,11 +277,7 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
     if (primMask == 0 && groupMask > 0x00ffffffu) {
       const uint32_t bit = detail::HighestBit(groupMask);
       groupMask &= ~(1u << bit);
-      if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) {
-        stackBase[stackSize] = groupBase;
-        stackMask[stackSize] = groupMask;
-        ++stackSize;
-      }
+      if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) push(groupBase, groupMask);
       const uint32_t slot = (bit - 24u) ^ r.octInv;
       const uint32_t index =
           groupBase + detail::PopCount8(groupMask & 0xffu & ((1u << slot) - 1u));
@@ -288,9 +290,7 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
       primMask = hits & 0x00ffffffu;
       if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
           postponed < kWidePostponed && stackSize < kWideStackCapacity) {
-        stackBase[stackSize] = primBase;
-        stackMask[stackSize] = primMask;
-        ++stackSize;
+        push(primBase, primMask);
         ++postponed;
         primMask = 0;
       }
