@@ -48,8 +48,10 @@ class CudaBackend {
   explicit CudaBackend(int device = 0);
   ~CudaBackend();
 
-  // Enough paths to fill every SM several times over.
-  size_t DefaultPathsInFlight() const { return size_t(1) << 21; }
+  // Paths in flight when --max-paths is not given: chosen from the device's free memory at
+  // start-up (see the constructor). Larger waves keep the GPU full in the later bounces, where
+  // few paths are left, and add each pixel's samples to the film in fewer passes.
+  size_t DefaultPathsInFlight() const { return defaultPaths_; }
 
   template <typename F>
   void ParallelFor(Stage stage, uint32_t n, F body) {
@@ -103,6 +105,7 @@ class CudaBackend {
   size_t PeakBytes() const { return DeviceMemoryTracker::peak.load(); }
 
  private:
+  size_t defaultPaths_ = size_t(1) << 21;
   void BeginStage(Stage stage);
   void EndStage(Stage stage);
 

@@ -206,6 +206,24 @@ TEST(BvhWide, QuantisedChildBoxesAreConservative) {
   for (size_t i = 0; i < reached.size(); ++i) ASSERT_EQ(reached[i], 1) << "primitive " << i;
 }
 
+// The GPU's node test decodes a node half's four meta bytes at once; it must set the same bits
+// as the per-slot decode the host uses, for every meta byte, octant and slot position.
+TEST(BvhWide, FourSlotDecodeMatchesThePerSlotDecode) {
+  std::mt19937 rng(7);
+  for (uint32_t octInv = 0; octInv < 8; ++octInv) {
+    for (uint32_t meta = 0; meta < 256; ++meta) {
+      for (uint32_t k = 0; k < 4; ++k) {
+        // The byte under test at position k among random neighbours.
+        uint32_t meta4 = rng();
+        meta4 = (meta4 & ~(0xffu << (8u * k))) | (meta << (8u * k));
+        EXPECT_EQ(detail::SlotBits4::Decode(meta4, octInv).HitBits(k),
+                  detail::SlotHitBits(meta4, k, octInv))
+            << "meta " << meta << ", octInv " << octInv << ", slot " << k;
+      }
+    }
+  }
+}
+
 TEST(BvhWide, EmptyAndOneTriangleScenes) {
   for (BvhBuilder builder : {BvhBuilder::kSah, BvhBuilder::kSbvh}) {
     ShapeScene empty = BuildShapes({}, {}, {}, Options(BvhLayout::kWide, builder));

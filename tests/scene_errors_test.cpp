@@ -185,6 +185,11 @@ TEST(SceneErrors, OutOfRangeRenderAndCamera) {
               "outside");
   ExpectError(render(R"("width": 4, "height": 2, "spp": 1, "max_depth": -1)"), "render.max_depth",
               "outside");
+  // The path state counts depth in 12 bits: 4096 would carry into its flags.
+  ExpectError(render(R"("width": 4, "height": 2, "spp": 1, "max_depth": 4096)"), "render.max_depth",
+              "outside");
+  EXPECT_EQ(ErrorOf(render(R"("width": 4, "height": 2, "spp": 1, "max_depth": 4095)").Text()),
+            "(no error)");
   ExpectError(render(R"("width": 4, "height": 2, "spp": 1, "max_depth": 1, "seed": -1)"),
               "render.seed", "outside");
   ExpectError(render(R"("width": 4, "height": 2, "spp": 1, "max_depth": 1, "russian_roulette_depth": -2)"),

@@ -134,6 +134,22 @@ PT_HDI uint32_t SlotHitBits(uint32_t meta4, uint32_t k, uint32_t octInv) {
   return (meta >> 5) << bit;
 }
 
+// SlotHitBits for four slots at once, decoded with a few word-wide operations per node half
+// instead of several per slot: an interior child's index (24 + slot: bits 3 and 4 set) has its
+// slot mirrored by the octant, and the meta's top three bits are the bits to set there.
+struct SlotBits4 {
+  uint32_t bitIndex4, childBits4;
+
+  PT_HDI static SlotBits4 Decode(uint32_t meta4, uint32_t octInv) {
+    const uint32_t interior4 = meta4 & (meta4 << 1) & 0x10101010u;
+    return SlotBits4{(meta4 ^ ((interior4 >> 4) * octInv)) & 0x1f1f1f1fu,
+                     (meta4 >> 5) & 0x07070707u};
+  }
+  PT_HDI uint32_t HitBits(uint32_t k) const {
+    return ((childBits4 >> (8u * k)) & 0xffu) << ((bitIndex4 >> (8u * k)) & 0xffu);
+  }
+};
+
 #if !PT_IS_GPU_CODE && defined(__SSE2__)
 #define PT_WIDE_SSE 1
 // The host's version of the test below: four slots per SSE instruction, the same operations
@@ -201,7 +217,7 @@ PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay&
     const uint32_t qnX = r.neg[0] ? hiX : loX, qfX = r.neg[0] ? loX : hiX;
     const uint32_t qnY = r.neg[1] ? hiY : loY, qfY = r.neg[1] ? loY : hiY;
     const uint32_t qnZ = r.neg[2] ? hiZ : loZ, qfZ = r.neg[2] ? loZ : hiZ;
-    const uint32_t meta4 = n.w[6 + half];
+    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
     for (uint32_t k = 0; k < 4; ++k) {
       float t0 = MulAdd(ByteAsFloat(qnX, k), adjX, nearX);
       t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), adjY, nearY));
@@ -209,7 +225,7 @@ PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay&
       float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), adjX, farX));
       t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), adjY, farY));
       t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), adjZ, farZ));
-      if (t0 <= t1 * kWideFarScale) hits |= SlotHitBits(meta4, k, r.octInv);
+      if (t0 <= t1 * kWideFarScale) hits |= slots.HitBits(k);
     }
   }
   return hits;

@@ -8,15 +8,20 @@
 #include "src/core/math.h"
 #include "src/geometry/interaction.h"
 #include "src/scene/instance_types.h"
+#include "src/scene/scene.h"
 
 namespace pt {
 
 // Bits of PathState::flags.
-constexpr uint32_t kDepthMask = 0xffu;         // bounces taken so far
-constexpr uint32_t kFlagAlive = 1u << 8;
-constexpr uint32_t kFlagSpecular = 1u << 9;    // the last bounce was a delta lobe (or camera)
-constexpr uint32_t kFlagShadow = 1u << 10;     // a shadow ray is queued for this bounce
-constexpr uint32_t kMediumShift = 11;          // dielectric material index + 1 the path is inside
+constexpr uint32_t kDepthMask = 0xfffu;        // bounces taken so far
+constexpr uint32_t kFlagAlive = 1u << 12;
+constexpr uint32_t kFlagSpecular = 1u << 13;   // the last bounce was a delta lobe (or camera)
+constexpr uint32_t kFlagShadow = 1u << 14;     // a shadow ray is queued for this bounce
+constexpr uint32_t kMediumShift = 15;          // dielectric material index + 1 the path is inside
+// The loaders' limits (src/scene/scene.h) fit: a depth never carries into the flags, and every
+// material index + 1 fits above them.
+static_assert(uint32_t(kMaxBounces) <= kDepthMask, "depth field narrower than kMaxBounces");
+static_assert(kMaxMaterials <= (uint64_t(1) << (32 - kMediumShift)) - 1, "medium field too narrow");
 
 PT_HDI uint32_t DepthOf(uint32_t flags) { return flags & kDepthMask; }
 PT_HDI bool IsAlive(uint32_t flags) { return (flags & kFlagAlive) != 0; }

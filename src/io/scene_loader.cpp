@@ -26,7 +26,6 @@ namespace fs = std::filesystem;
 constexpr int64_t kFormatVersion = 1;
 constexpr int64_t kMaxPixels = int64_t(1) << 26;  // 8192 x 8192
 constexpr int64_t kMaxSpp = int64_t(1) << 24;
-constexpr int64_t kMaxBounces = int64_t(1) << 16;
 constexpr int64_t kMaxSeed = 0xffffffffll;
 
 // An entry of the "meshes" table: its JSON, and its SceneDesc::meshes index once loaded.
@@ -147,6 +146,9 @@ Material ParseMaterial(const JsonObject& m) {
 void ParseMaterials(const JsonObject& root, LoadState& state) {
   JsonValue all = root.Field("materials");
   JsonObject materials(all);
+  if (all.Raw().size() > kMaxMaterials)
+    materials.FailHere(std::to_string(all.Raw().size()) + " materials; at most " +
+                       std::to_string(kMaxMaterials) + " are supported");
   for (const auto& item : all.Raw().items()) {
     JsonObject m(JsonValue(item.value(), materials.FieldPath(item.key()), state.file));
     state.materials[item.key()] = uint32_t(state.scene.materials.size());

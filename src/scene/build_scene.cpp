@@ -190,6 +190,11 @@ Aabb BuildFlatScene(Scene& scene, const BvhBuildOptions& options) {
 }  // namespace
 
 Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
+  // The loaders check their own files; this covers scenes put together from several (includes).
+  if (desc.materials.size() > kMaxMaterials)
+    throw std::runtime_error("the scene has " + std::to_string(desc.materials.size()) +
+                             " materials; at most " + std::to_string(kMaxMaterials) +
+                             " are supported");
   Scene scene;
   scene.desc = std::move(desc);
   const SceneDesc& d = scene.desc;

@@ -17,6 +17,11 @@ struct AdaptiveSettings {
   int batch = 16;
 };
 
+// Limits the path state's flag word sets (src/integrator/path_state.h): a path's depth has 12
+// bits, and the dielectric it is inside is kept as its material index + 1 in 17 bits.
+constexpr int kMaxBounces = 4095;
+constexpr size_t kMaxMaterials = (size_t(1) << 17) - 1;
+
 struct RenderSettings {
   int width = 0, height = 0;
   int spp = 0;

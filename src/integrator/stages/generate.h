@@ -32,8 +32,8 @@ PT_HDI void GenerateCameraPath(const Camera& cam, const WaveInfo& wave, PathStat
   Ray ray = CameraRay(cam, x, y, float(wave.imageWidth), float(wave.imageHeight), vec2(u.z, u.w));
   ps.rayOrigin[id] = ray.o;
   ps.rayDir[id] = ray.d;
-  ps.throughput[id] = vec3(1.0f);
-  ps.radiance[id] = vec3(0.0f);
+  // Throughput (1) and radiance (0) are not written: shade knows them at depth 0 (PathVertexOf)
+  // and writes both there, whatever happens to the path.
   ps.prevPdf[id] = 0.0f;
   ps.flags[id] = kFlagAlive | kFlagSpecular;  // depth 0; emitters seen directly count fully
 }

@@ -173,6 +173,21 @@ struct PathVertex {
   float prevPdf;
 };
 
+// The path's state at its vertex. A camera path (depth 0) has throughput 1 and has gathered
+// nothing yet: generate leaves those two arrays alone, and every path's first shading writes
+// them (ShadeSurface's end or TerminatePath), so 24 bytes a camera ray are neither written nor
+// read.
+PT_HDI PathVertex PathVertexOf(PathState ps, uint32_t id, uint32_t flags, bool instanced) {
+  const uint32_t depth = DepthOf(flags);
+  return PathVertex{flags,
+                    depth,
+                    LoadHit(ps, id, instanced),
+                    Ray{ps.rayOrigin[id], ps.rayDir[id]},
+                    depth == 0 ? vec3(1.0f) : ps.throughput[id],
+                    depth == 0 ? vec3(0.0f) : ps.radiance[id],
+                    ps.prevPdf[id]};
+}
+
 // Escaped: the environment (a constant, a map) and sun disks are lights; a camera ray may see
 // a backdrop instead where the environment is hidden from the camera.
 template <bool kMap>
@@ -243,13 +258,7 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
                       const WaveInfo& wave, PathState ps, uint32_t id) {
   uint32_t flags = ps.flags[id];
   if (!IsAlive(flags)) return;
-  PathVertex v{flags,
-               DepthOf(flags),
-               LoadHit(ps, id, scene.instanceCount != 0),
-               Ray{ps.rayOrigin[id], ps.rayDir[id]},
-               ps.throughput[id],
-               ps.radiance[id],
-               ps.prevPdf[id]};
+  PathVertex v = PathVertexOf(ps, id, flags, scene.instanceCount != 0);
   // Beer-Lambert attenuation over the segment travelled inside a dielectric.
   int32_t medium = kHasMedia<C> ? MediumOf(flags) : -1;
   if (medium >= 0) {
