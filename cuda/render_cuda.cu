@@ -119,13 +119,14 @@ void PreferEagerModuleLoading() {
   (void)set;
 }
 
-// The default number of paths in flight: the largest power of two up to 2^23 whose path state
+// The default number of paths in flight: the largest power of two up to 2^25 whose path state
 // (counted twice over, for the queues, sort keys and scratch besides it) fits in a quarter of
-// the free memory, so the scene and film keep the rest. Waves of 2^23 paths rendered the bunny
-// Cornell 1.33x and the Breakfast Room 1.30x faster than waves of 2^21 on an H100 (RESULTS.md);
-// the image does not depend on the wave size.
+// the free memory, so the scene and film keep the rest. Waves of 2^25 paths rendered the bunny
+// Cornell 1.48x and the Breakfast Room 1.42x faster than waves of 2^21 on an H100 (RESULTS.md):
+// fewer passes over the film, and the later bounces' few paths still fill the GPU. The image
+// does not depend on the wave size.
 size_t DefaultPathsFor(size_t freeBytes) {
-  constexpr size_t kMin = size_t(1) << 18, kMax = size_t(1) << 23;
+  constexpr size_t kMin = size_t(1) << 18, kMax = size_t(1) << 25;
   size_t paths = kMax;
   while (paths > kMin && paths * 2 * kPathStateBytes > freeBytes / 4) paths /= 2;
   return paths;
@@ -149,6 +150,8 @@ CudaBackend::CudaBackend(int device) {
   size_t freeBytes = 0, totalBytes = 0;
   CudaCheck(cudaMemGetInfo(&freeBytes, &totalBytes), "cudaMemGetInfo");
   defaultPaths_ = DefaultPathsFor(freeBytes);
+  smCount_ = prop.multiProcessorCount;
+  fetchNext_.Resize(1);
 }
 
 CudaBackend::~CudaBackend() {

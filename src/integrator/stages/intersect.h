@@ -51,4 +51,52 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   }
 }
 
+// IntersectPath for a flat scene in the wide layout as a resumable task (resumable_task.h):
+// the same query, one node a step, and the same writes.
+template <bool kHitTest>
+struct ClosestHitTask {
+  SceneView scene;
+  PathState ps;
+  const uint32_t* queue;
+  SortKeyOutput sort;
+  Counter* counters;
+
+  struct State {
+    uint32_t id, i;
+    PrimLeaf<TraceMode::kClosest, kHitTest> leaf;
+    WideTraversal walk;
+  };
+
+  PT_HDI bool Start(State& st, uint32_t i) const {
+    st.i = i;
+    st.id = queue[i];
+    if (!IsAlive(ps.flags[st.id])) {
+      if (sort.keys) sort.keys[i] = scene.materialCount + 1;
+      return false;
+    }
+    const Ray ray{ps.rayOrigin[st.id], ps.rayDir[st.id]};
+    st.leaf = PrimLeaf<TraceMode::kClosest, kHitTest>(scene, ray);
+    if (scene.primCount != 0 && st.walk.Start(SceneWideBvh(scene), ray, kInfinity)) return true;
+    st.walk.tMax = kInfinity;  // nothing to walk: a miss
+    st.walk.nodesVisited = 0;
+    Finish(st);
+    return false;
+  }
+
+  PT_HDI bool Step(State& st) const {
+    return st.walk.template Step<TraceMode::kClosest>(SceneWideBvh(scene), st.leaf);
+  }
+
+  PT_HDI void Finish(State& st) const {
+    const HitRecord hit{st.walk.tMax, st.leaf.prim, st.leaf.uv, kNoInstance};
+    StoreHit(ps, st.id, hit, false);
+    if (sort.keys) sort.keys[st.i] = MaterialSortKey(scene, sort.materialKeys, hit);
+    if (counters) {
+      AddToCounter(&counters[kCounterNodesVisited], st.walk.nodesVisited);
+      AddToCounter(&counters[kCounterPrimsTested], st.leaf.tested);
+      AddToCounter(&counters[kCounterTraversals], 1);
+    }
+  }
+};
+
 }  // namespace pt
