@@ -8,7 +8,6 @@
 #include <thrust/execution_policy.h>
 #include <thrust/partition.h>
 
-#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -23,41 +22,6 @@ template <typename F>
 __global__ void ParallelForKernel(uint32_t n, F body) {
   uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n) body(i);
-}
-
-// --ray-fetch dynamic (src/integrator/resumable_task.h): persistent warps, each lane carrying
-// one item at a time. When at least kRefillLanes lanes of a warp are idle, they take the next
-// items together (one atomic per warp), so a warp is not held by its longest item while most
-// of its lanes wait. The loop's exit is warp-uniform: every lane idle and no items left.
-constexpr uint32_t kRefillLanes = 8;
-
-template <typename Task>
-__global__ void DynamicFetchKernel(uint32_t n, uint32_t* next, Task task) {
-  typename Task::State state;
-  bool busy = false, exhausted = false;
-  const uint32_t lane = threadIdx.x & 31u;
-  for (;;) {
-    const uint32_t idle = __ballot_sync(0xffffffffu, !busy);
-    if (!exhausted && uint32_t(__popc(idle)) >= kRefillLanes) {
-      const uint32_t leader = uint32_t(__ffs(idle)) - 1u, count = uint32_t(__popc(idle));
-      uint32_t base = 0;
-      if (lane == leader) base = atomicAdd(next, count);
-      base = __shfl_sync(0xffffffffu, base, leader);
-      exhausted = base + count >= n;
-      if (!busy) {
-        const uint32_t i = base + uint32_t(__popc(idle & ((1u << lane) - 1u)));
-        if (i < n) busy = task.Start(state, i);
-      }
-    }
-    if (__ballot_sync(0xffffffffu, busy) == 0) {
-      if (exhausted) break;
-      continue;
-    }
-    if (busy && task.Step(state)) {
-      task.Finish(state);
-      busy = false;
-    }
-  }
 }
 
 // A shade queue's kernel: its range [range[0], range[1]) was written on the device by an
@@ -95,24 +59,6 @@ class CudaBackend {
     constexpr uint32_t kBlock = 128;
     BeginStage(stage);
     ParallelForKernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, body);
-    CudaCheck(cudaGetLastError(), "kernel launch");
-    EndStage(stage);
-  }
-
-  // Task over [0, n) with dynamic fetch (the kernel above), on as many warps as fit at once.
-  template <typename Task>
-  void ParallelForDynamic(Stage stage, uint32_t n, const Task& task) {
-    if (n == 0) return;
-    constexpr uint32_t kBlock = 128;
-    static const int blocksPerSm = [] {
-      int blocks = 0;
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, DynamicFetchKernel<Task>, kBlock, 0);
-      return blocks > 0 ? blocks : 1;
-    }();
-    const uint32_t grid = std::min(uint32_t(smCount_ * blocksPerSm), (n + kBlock - 1) / kBlock);
-    BeginStage(stage);
-    CudaCheck(cudaMemsetAsync(fetchNext_.Data(), 0, sizeof(uint32_t), stream_), "cudaMemsetAsync");
-    DynamicFetchKernel<<<grid, kBlock, 0, stream_>>>(n, fetchNext_.Data(), task);
     CudaCheck(cudaGetLastError(), "kernel launch");
     EndStage(stage);
   }
@@ -160,8 +106,6 @@ class CudaBackend {
 
  private:
   size_t defaultPaths_ = size_t(1) << 21;
-  int smCount_ = 1;
-  DeviceBuffer<uint32_t> fetchNext_;  // ParallelForDynamic's next item
   void BeginStage(Stage stage);
   void EndStage(Stage stage);
 

@@ -150,8 +150,6 @@ CudaBackend::CudaBackend(int device) {
   size_t freeBytes = 0, totalBytes = 0;
   CudaCheck(cudaMemGetInfo(&freeBytes, &totalBytes), "cudaMemGetInfo");
   defaultPaths_ = DefaultPathsFor(freeBytes);
-  smCount_ = prop.multiProcessorCount;
-  fetchNext_.Resize(1);
 }
 
 CudaBackend::~CudaBackend() {

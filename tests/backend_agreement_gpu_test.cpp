@@ -6,7 +6,6 @@
 #include <cstring>
 #include <filesystem>
 
-#include "tests/gltf_material_scenes.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 #include "tests/welch.h"
@@ -65,34 +64,6 @@ TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
                              ref.image.rgb.size() * sizeof(float)))
         << "compact " << int(compact) << " sort " << int(sort);
   }
-}
-
-// --ray-fetch dynamic hands lanes new rays as others finish: the same rays, the same walks (so
-// the same node and primitive counts), the same image, on the CPU (one ray after another) and
-// on the GPU (interleaved), with and without a material that asks for hit tests.
-TEST(BackendAgreementGpu, DynamicRayFetchChangesNeitherImageNorWork) {
-  BvhBuildOptions wide;
-  wide.layout = BvhLayout::kWide;
-  SceneSpec spec;
-  const std::pair<const char*, SceneDesc> descs[] = {
-      {"cornell_glass_mirror", SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 4, 3)},
-      {"alpha blend", AlphaShadowScene(TempDir(), "blend", spec).desc}};
-  for (const auto& [file, desc] : descs) {
-    Scene scene = BuildScene(desc, wide);
-    RenderOptions dynamicFetch;
-    dynamicFetch.rayFetch = RayFetch::kDynamic;
-    std::vector<std::pair<RenderResult, RenderResult>> runs{
-        {RenderOnCpu(scene), RenderOnCpu(scene, dynamicFetch)}};
-    if (HaveGpu()) runs.push_back({RenderCuda(scene, RenderOptions{}), RenderCuda(scene, dynamicFetch)});
-    for (const auto& [a, b] : runs) {
-      EXPECT_EQ(0, std::memcmp(a.image.rgb.data(), b.image.rgb.data(),
-                               a.image.rgb.size() * sizeof(float))) << file << " on " << a.stats.backend;
-      EXPECT_EQ(a.stats.nodesVisited, b.stats.nodesVisited) << file << " on " << a.stats.backend;
-      EXPECT_EQ(a.stats.primsTested, b.stats.primsTested) << file << " on " << a.stats.backend;
-      EXPECT_EQ(a.stats.traversals, b.stats.traversals) << file << " on " << a.stats.backend;
-    }
-  }
-  if (!HaveGpu()) GTEST_SKIP() << "CPU checked; no CUDA GPU here for the GPU half";
 }
 
 TEST(BackendAgreementGpu, StatisticsAreFilledOnTheGpu) {

@@ -247,11 +247,6 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
                                                     {"direct", LightPaths::kDirect},
                                                     {"indirect", LightPaths::kIndirect}});
        }},
-      {"--ray-fetch",
-       [](CliOptions& o, ValueSource& s) {
-         o.rayFetch = ParseChoice<RayFetch>(
-             s, {{"static", RayFetch::kStatic}, {"dynamic", RayFetch::kDynamic}});
-       }},
       {"--tri-test",
        [](CliOptions& o, ValueSource& s) {
          o.triangleTest = ParseChoice<TriangleTest>(

@@ -47,7 +47,6 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
-  RayFetch rayFetch = RayFetch::kStatic;
   std::string envPath;                // --env: replaces the scene's environment
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;

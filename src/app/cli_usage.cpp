@@ -59,8 +59,6 @@ Backend and performance
   --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --film float|double      film accumulation precision (default float)
-  --ray-fetch static|dynamic  GPU warps in the wide traversal of flat scenes: a ray a lane
-                           for the kernel's life, or new rays as lanes finish (default static)
   --tri-test watertight|mt triangle test (default watertight)
   --ray-offset robust|EPS  ray origin offsets from error bounds, or a fixed epsilon
 

@@ -117,7 +117,6 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.filmDouble = cli.filmDouble;
   options.specialize = cli.specialize;
   options.triangleTest = cli.triangleTest;
-  options.rayFetch = cli.rayFetch;
   options.envSampling = cli.envSampling;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.

@@ -20,22 +20,19 @@ namespace pt {
 
 // Tests s.prims[first, first + count) with IntersectPrim<kHitTest>. kClosest keeps the nearest
 // accepted primitive (ties by tagIndex); kAny stops at the first.
-// Assignable (a pointer and values), so a resumable walk can keep one per lane and restart it.
 template <TraceMode kMode, bool kHitTest = true>
 struct PrimLeaf {
-  const SceneView* scene = nullptr;
-  Ray ray;
+  const SceneView& s;
+  const Ray& ray;
   TriangleRayData triRay;
   uint32_t prim = HitRecord::kNoHit;
   vec2 uv = vec2(0.0f);
   uint32_t tested = 0;
 
-  PrimLeaf() = default;
-  PT_HDI PrimLeaf(const SceneView& s, const Ray& r)
-      : scene(&s), ray(r), triRay(TriangleRayData::Make(r.d)) {}
+  PT_HDI PrimLeaf(const SceneView& scene, const Ray& r)
+      : s(scene), ray(r), triRay(TriangleRayData::Make(r.d)) {}
 
   PT_HDI bool operator()(uint32_t first, uint32_t count, float* tMax) {
-    const SceneView& s = *scene;
     bool found = false;
     for (uint32_t i = first, end = first + count; i < end; ++i) {
       ++tested;

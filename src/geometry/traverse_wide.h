@@ -258,107 +258,85 @@ PT_HDI bool PostponePrims(bool hasPrims) {
 
 // Walks a wide BVH: the current node group (interior hits of a node, plus its child base and
 // interior mask) is consumed highest bit first; the rest of a group waits on the stack. Hit
-// primitives go to the leaf callback; tMax as in the binary traversal. A stack entry whose mask
+// primitives go to the leaf callback; *tMax as in the binary traversal. A stack entry whose mask
 // has no bit above 23 is a postponed primitive group (base, primitive bits).
-//
-// The walk is resumable: Step does one node (or one group of primitives) and says whether the
-// walk is over, so a GPU warp can hand a finished lane a new ray while the others go on
-// (--ray-fetch dynamic); Traverse below runs the steps to the end.
-struct WideTraversal {
-  detail::WideRay r;
-  float tMax;
-  uint32_t nodesVisited;
-  // A group: base = first interior child, mask = interior hit bits 24-31 | interior mask 0-7.
-  uint32_t groupBase, groupMask, primBase, primMask;
-  int stackSize, postponed;
-  uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
-
-  // False when there is nothing to walk (an empty BVH, or a ray with a NaN or infinity).
-  PT_HDI bool Start(const WideBvh& bvh, const Ray& ray, float tMaxIn) {
-    if (bvh.nodeCount == 0 || !TraceableRay(ray)) return false;
-    tMax = tMaxIn;
-    r.o = ray.o;
-    r.invDir = vec3(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
-    r.neg[0] = r.invDir.x < 0.0f;  // 1/d is never -0; 1/-0 = -inf counts as negative
-    r.neg[1] = r.invDir.y < 0.0f;
-    r.neg[2] = r.invDir.z < 0.0f;
-    r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
-    for (int a = 0; a < 3; ++a) {
-      r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
-      r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);
-    }
-    nodesVisited = 0;
-    // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
-    groupBase = 0;
-    groupMask = 0x80000000u;
-    primBase = primMask = 0;
-    stackSize = postponed = 0;
-    return true;
-  }
-
-  PT_HDI void Push(uint32_t base, uint32_t mask) {
-    stackBase[stackSize] = base;
-    stackMask[stackSize] = mask;
-    ++stackSize;
-  }
-
-  // The next node of the current group: its interior hits become the group, its leaves' hit
-  // primitives the primitives to test (or, when few lanes have some, a postponed group).
-  PT_HDI void VisitNode(const WideBvh& bvh) {
-    const uint32_t bit = detail::HighestBit(groupMask);
-    groupMask &= ~(1u << bit);
-    if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) Push(groupBase, groupMask);
-    const uint32_t slot = (bit - 24u) ^ r.octInv;
-    const uint32_t index = groupBase + detail::PopCount8(groupMask & 0xffu & ((1u << slot) - 1u));
-    ++nodesVisited;
-    const detail::WideNodeWords n = detail::LoadWideNode(bvh.nodes + index);
-    const uint32_t hits = detail::IntersectWideChildren(n, r, tMax);
-    groupBase = n.w[4];
-    groupMask = (hits & 0xff000000u) | (n.w[3] >> 24);
-    primBase = n.w[5];
-    primMask = hits & 0x00ffffffu;
-    if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
-        postponed < kWidePostponed && stackSize < kWideStackCapacity) {
-      Push(primBase, primMask);
-      ++postponed;
-      primMask = 0;
-    }
-  }
-
-  // One step; true when the walk is over.
-  template <TraceMode kMode, typename LeafFn>
-  PT_HDI bool Step(const WideBvh& bvh, LeafFn& leaf) {
-    if (primMask == 0 && groupMask > 0x00ffffffu) VisitNode(bvh);
-    while (primMask != 0) {
-      const uint32_t bit = detail::LowestBit(primMask);
-      primMask &= primMask - 1u;
-      if (leaf(primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) return true;
-    }
-    if (groupMask > 0x00ffffffu) return false;
-    if (stackSize == 0) return true;
-    --stackSize;
-    if (stackMask[stackSize] > 0x00ffffffu) {
-      groupBase = stackBase[stackSize];
-      groupMask = stackMask[stackSize];
-    } else {  // a postponed primitive group
-      primBase = stackBase[stackSize];
-      primMask = stackMask[stackSize];
-      groupMask = 0;
-      --postponed;
-    }
-    return false;
-  }
-};
-
 template <TraceMode kMode, typename LeafFn>
 PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
                      TraversalCounters* counters) {
-  WideTraversal walk;
-  if (!walk.Start(bvh, ray, *tMaxInOut)) return;
-  while (!walk.Step<kMode>(bvh, leaf)) {
+  if (bvh.nodeCount == 0 || !TraceableRay(ray)) return;
+  float tMax = *tMaxInOut;
+  detail::WideRay r;
+  r.o = ray.o;
+  r.invDir = vec3(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
+  r.neg[0] = r.invDir.x < 0.0f;  // 1/d is never -0; 1/-0 = -inf counts as negative
+  r.neg[1] = r.invDir.y < 0.0f;
+  r.neg[2] = r.invDir.z < 0.0f;
+  r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
+  for (int a = 0; a < 3; ++a) {
+    r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
+    r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);
   }
-  *tMaxInOut = walk.tMax;
-  if (counters) counters->nodes += walk.nodesVisited;
+  uint32_t nodesVisited = 0;
+
+  uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
+  int stackSize = 0, postponed = 0;
+  auto push = [&](uint32_t base, uint32_t mask) {
+    stackBase[stackSize] = base;
+    stackMask[stackSize] = mask;
+    ++stackSize;
+  };
+  // A group: base = first interior child, mask = interior hit bits 24-31 | interior mask 0-7.
+  // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
+  uint32_t groupBase = 0, groupMask = 0x80000000u;
+  uint32_t primBase = 0, primMask = 0;
+  for (;;) {
+    if (primMask == 0 && groupMask > 0x00ffffffu) {
+      const uint32_t bit = detail::HighestBit(groupMask);
+      groupMask &= ~(1u << bit);
+      if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) push(groupBase, groupMask);
+      const uint32_t slot = (bit - 24u) ^ r.octInv;
+      const uint32_t index =
+          groupBase + detail::PopCount8(groupMask & 0xffu & ((1u << slot) - 1u));
+      ++nodesVisited;
+      const detail::WideNodeWords n = detail::LoadWideNode(bvh.nodes + index);
+      const uint32_t hits = detail::IntersectWideChildren(n, r, tMax);
+      groupBase = n.w[4];
+      groupMask = (hits & 0xff000000u) | (n.w[3] >> 24);
+      primBase = n.w[5];
+      primMask = hits & 0x00ffffffu;
+      if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
+          postponed < kWidePostponed && stackSize < kWideStackCapacity) {
+        push(primBase, primMask);
+        ++postponed;
+        primMask = 0;
+      }
+    }
+    while (primMask != 0) {
+      const uint32_t bit = detail::LowestBit(primMask);
+      primMask &= primMask - 1u;
+      if (leaf(primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
+        groupMask = 0;  // done: the stack is dropped below
+        primMask = 0;
+        stackSize = 0;
+        break;
+      }
+    }
+    if (groupMask <= 0x00ffffffu) {
+      if (stackSize == 0) break;
+      --stackSize;
+      if (stackMask[stackSize] > 0x00ffffffu) {
+        groupBase = stackBase[stackSize];
+        groupMask = stackMask[stackSize];
+      } else {  // a postponed primitive group
+        primBase = stackBase[stackSize];
+        primMask = stackMask[stackSize];
+        groupMask = 0;
+        --postponed;
+      }
+    }
+  }
+  *tMaxInOut = tMax;
+  if (counters) counters->nodes += nodesVisited;
 }
 
 }  // namespace pt

@@ -25,9 +25,6 @@ enum class SortMethod { kAuto, kCounting, kRadix, kRadixFullWidth };
 enum class IntegratorMode { kMis, kBsdf, kNee };
 enum class LightPaths { kAll, kDirect, kIndirect };
 enum class TriangleTest { kWatertight, kMollerTrumbore };
-// How GPU warps take rays in the wide traversal stages of flat scenes: one per lane for the
-// kernel's life (static), or a new one as lanes finish (dynamic; src/integrator/resumable_task.h).
-enum class RayFetch { kStatic, kDynamic };
 enum class EnvSampling { kImportance, kUniform };
 
 struct CropWindow {
@@ -53,7 +50,6 @@ struct RenderOptions {
   Toggle adaptive = Toggle::kAuto;   // kAuto: the scene's render.adaptive
   bool specialize = true;            // stage variants specialised to the scene's effects
   TriangleTest triangleTest = TriangleTest::kWatertight;
-  RayFetch rayFetch = RayFetch::kStatic;
   bool featureBuffers = false;       // first-hit albedo, normal and depth (for --hdr EXR)
   EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
   int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)

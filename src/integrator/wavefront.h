@@ -19,7 +19,6 @@
 #include "src/integrator/flag_policy.h"
 #include "src/integrator/path_state.h"
 #include "src/integrator/render_api.h"
-#include "src/integrator/resumable_task.h"
 #include "src/integrator/scene_upload.h"
 #include "src/integrator/shade_launcher.h"
 #include "src/integrator/stage_id.h"
@@ -215,10 +214,6 @@ class WavefrontIntegrator {
     const uint32_t* queue = queue_.Data();
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
-    if constexpr (L == BvhLayout::kWide && !kInstanced) {
-      if (options_.rayFetch == RayFetch::kDynamic)
-        return RunTasks(Stage::kIntersect, n, ClosestHitTask<kHitTest>{scene, ps, queue, keys, counters});
-    }
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
       IntersectPath<L, kInstanced, kHitTest>(scene, ps, queue[i], i, keys, counters);
     });
@@ -247,24 +242,9 @@ class WavefrontIntegrator {
     SceneView scene = sceneBuffers_.view;
     const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
-    if constexpr (L == BvhLayout::kWide && !kInstanced) {
-      if (options_.rayFetch == RayFetch::kDynamic)
-        return RunTasks(Stage::kShadow, n, ShadowTask<kHitTest>{scene, ps, queue, counters});
-    }
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
       TraceShadowRay<L, kInstanced, kHitTest>(scene, ps, queue[i], counters);
     });
-  }
-
-  // Resumable tasks: interleaved per lane on a GPU (ParallelForDynamic), one after another
-  // elsewhere (the same bodies).
-  template <typename Task>
-  void RunTasks(Stage stage, uint32_t n, const Task& task) {
-    if constexpr (Backend::kLockstepLanes) {
-      backend_.ParallelForDynamic(stage, n, task);
-    } else {
-      backend_.ParallelFor(stage, n, [=] PT_HD(uint32_t i) { RunTask(task, i); });
-    }
   }
 
   // Compact: keep only live paths in the queue.

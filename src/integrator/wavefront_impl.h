@@ -33,7 +33,6 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.specialize = o.specialize;
   options_.rayOffsetEpsilon = o.rayOffsetEpsilon;
   options_.triangleTest = o.triangleTest;
-  options_.rayFetch = o.rayFetch;
   options_.envSampling = o.envSampling;
   options_.timeLimitSeconds = o.timeLimitSeconds;
   options_.previewEverySeconds = o.previewEverySeconds;
