@@ -8,10 +8,12 @@
 
 namespace pt {
 
+// Grow-only: shading's material order and --ray-order share the scratch (counting sort scans
+// all of keyCursor_, extra zero counters included).
 size_t CpuBackend::ReserveOrdering(const OrderShape& shape) {
   bool counting = shape.method == SortMethod::kCounting;
-  keyCursor_.assign(counting ? shape.keyCount : 0, 0);
-  sortScratch_.resize(counting ? 0 : shape.n);
+  if (counting && shape.keyCount > keyCursor_.size()) keyCursor_.assign(shape.keyCount, 0);
+  if (!counting && shape.n > sortScratch_.size()) sortScratch_.resize(shape.n);
   return keyCursor_.size() * sizeof(uint32_t) + sortScratch_.size() * sizeof(uint64_t);
 }
 

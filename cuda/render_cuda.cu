@@ -62,10 +62,12 @@ int EndBit(const OrderShape& shape) {
 
 }  // namespace
 
+// Grow-only: shading's material order and --ray-order share the scratch, each reserving its
+// own shape.
 size_t CudaBackend::ReserveOrdering(const OrderShape& shape) {
   size_t bytes = 0;
   if (shape.method == SortMethod::kCounting) {
-    keyCounts_.Resize(shape.keyCount);
+    if (shape.keyCount > keyCounts_.Size()) keyCounts_.Resize(shape.keyCount);
     CudaCheck(cub::DeviceScan::ExclusiveSum(nullptr, bytes, keyCounts_.Data(), keyCounts_.Data(),
                                             int(shape.keyCount), stream_),
               "cub::DeviceScan::ExclusiveSum");
@@ -77,7 +79,8 @@ size_t CudaBackend::ReserveOrdering(const OrderShape& shape) {
                                               EndBit(shape), stream_),
               "cub::DeviceRadixSort::SortPairs");
   }
-  orderScratch_.Resize(std::max<size_t>(bytes, 1));
+  if (bytes > orderScratch_.Bytes() || orderScratch_.Bytes() == 0)
+    orderScratch_.Resize(std::max<size_t>(bytes, 1));
   return orderScratch_.Bytes() + keyCounts_.Bytes();
 }
 

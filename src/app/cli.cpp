@@ -191,6 +191,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
              s, {{"auto", BackendKind::kAuto}, {"cpu", BackendKind::kCpu},
                  {"cuda", BackendKind::kCuda}});
        }},
+      {"--ray-order",
+       [](CliOptions& o, ValueSource& s) {
+         o.rayOrder = ParseChoice<Toggle>(
+             s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

@@ -47,6 +47,7 @@ struct CliOptions {
   bool filmDouble = false;
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
+  Toggle rayOrder = Toggle::kAuto;
   std::string envPath;                // --env: replaces the scene's environment
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;

@@ -47,6 +47,8 @@ Backend and performance
   --max-paths N            paths in flight at once (default: the backend's); lower it when
                            the GPU runs out of memory
   --compact on|off|auto    stream compaction of finished paths (default auto)
+  --ray-order on|off|auto  sort each bounce's rays by direction and origin before tracing
+                           (default auto)
   --sort off|material|queues|auto
                            shading order: as queued; ordered by material (one kernel); or
                            ordered and one kernel per material type and texturing (queues);

@@ -117,6 +117,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.filmDouble = cli.filmDouble;
   options.specialize = cli.specialize;
   options.triangleTest = cli.triangleTest;
+  options.rayOrder = cli.rayOrder;
   options.envSampling = cli.envSampling;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.

@@ -144,6 +144,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
                    {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},
       {"sort", SortJson(stats)},
       {"compact", stats.compactUsed},
+      {"ray_order", stats.rayOrderUsed},
       {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
       {"paths_in_flight", stats.pathsInFlight},
       {"memory", MemoryJson(stats, run)},

@@ -9,4 +9,11 @@ FlagChoice ChooseFlags(const RenderOptions& options) {
   return FlagChoice{compact};
 }
 
+bool ChooseRayOrder(Toggle asked, bool lockstep, size_t prims) {
+  if (asked != Toggle::kAuto) return asked == Toggle::kOn;
+  (void)lockstep;
+  (void)prims;
+  return false;  // measured in benchmarks/RESULTS.md before it is turned on anywhere
+}
+
 }  // namespace pt

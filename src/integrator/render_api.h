@@ -38,6 +38,7 @@ struct RenderOptions {
   Toggle compact = Toggle::kAuto;
   SortMode sort = SortMode::kAuto;
   SortMethod sortMethod = SortMethod::kAuto;
+  Toggle rayOrder = Toggle::kAuto;   // sort each bounce's rays before intersect (ray_order.h)
   IntegratorMode integrator = IntegratorMode::kMis;
   CropWindow crop;
   double timeLimitSeconds = 0.0;     // <= 0: none
@@ -100,6 +101,7 @@ struct RenderStats {
   size_t pathStateBytesPerPath = 0, pathsInFlight = 0, peakDeviceBytes = 0;
   bool interrupted = false;
   bool compactUsed = false;
+  bool rayOrderUsed = false;
   bool sortUsed = false;
   std::string sortMode = "off";    // the shading order that ran (auto's choice)
   std::string sortMethod;          // how paths were ordered, when they were

@@ -25,6 +25,7 @@
 #include "src/integrator/stages/accumulate.h"
 #include "src/integrator/stages/generate.h"
 #include "src/integrator/stages/intersect.h"
+#include "src/integrator/stages/ray_order.h"
 #include "src/integrator/stages/shade.h"
 #include "src/integrator/stages/shadow.h"
 #include "src/integrator/wave_plan.h"
@@ -151,6 +152,7 @@ class WavefrontIntegrator {
     uint32_t alive = n;
     for (int bounce = 0; alive > 0; ++bounce) {
       if (bounce > 0) stats_.extensionRays += alive;
+      if (bounce > 0 && rayOrder_) OrderRays(n);  // camera rays are in pixel order already
       IntersectClosest(n);
       Shade(wave, n);
       // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
@@ -180,6 +182,28 @@ class WavefrontIntegrator {
       GenerateCameraPath(cam, wave, ps, i);
       queue[i] = i;
     });
+  }
+
+  // Ray order: the queue sorted by each ray's key (finished paths last), through a copy.
+  void OrderRays(uint32_t n) {
+    if (rayQueue_.Size() != queue_.Size()) {
+      for (Buffer<uint32_t>* b : {&rayKeys_, &rayKeysOut_, &rayQueue_}) b->Resize(queue_.Size());
+      backend_.ReserveOrdering(
+          OrderShape{SortMethod::kRadix, kRayOrderKeyBits, 0, uint32_t(queue_.Size())});
+    }
+    PathState ps = pathState_;
+    SceneView scene = sceneBuffers_.view;
+    uint32_t* queue = queue_.Data();
+    uint32_t* keys = rayKeys_.Data();
+    backend_.ParallelFor(Stage::kSort, n, [=] PT_HD(uint32_t i) {
+      const uint32_t id = queue[i];
+      keys[i] = IsAlive(ps.flags[id]) ? RayOrderKey(scene, ps.rayOrigin[id], ps.rayDir[id])
+                                      : kRayOrderDeadKey;
+    });
+    uint32_t* ordered = rayQueue_.Data();
+    backend_.OrderByKey(Stage::kSort, OrderShape{SortMethod::kRadix, kRayOrderKeyBits, 0, n},
+                        OrderArrays{keys, queue, rayKeysOut_.Data(), ordered});
+    backend_.ParallelFor(Stage::kSort, n, [=] PT_HD(uint32_t i) { queue[i] = ordered[i]; });
   }
 
   // Intersect: closest hit per queued path, and its sort key when shading is ordered.
@@ -322,6 +346,7 @@ class WavefrontIntegrator {
   RenderOptions options_;
   RenderCallbacks callbacks_;
   bool compact_ = true;
+  bool rayOrder_ = false;  // --ray-order, auto resolved
   SortMode sortMode_ = SortMode::kOff;  // auto resolved
   bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;
@@ -332,6 +357,7 @@ class WavefrontIntegrator {
       shadowRadiance_;
   Buffer<float> prevPdf_, shadowTMax_;
   Buffer<uint32_t> flags_, queue_;
+  Buffer<uint32_t> rayKeys_, rayKeysOut_, rayQueue_;  // --ray-order's keys and ordered queue
   ShadeLauncher<Backend> shade_{backend_};
   Buffer<PathHit> hit_;
   Buffer<uint32_t> hitInstance_;

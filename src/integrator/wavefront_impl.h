@@ -40,6 +40,9 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
+  options_.rayOrder = o.rayOrder;
+  rayOrder_ = ChooseRayOrder(o.rayOrder, Backend::kLockstepLanes, scene_.prims.size());
+  stats_.rayOrderUsed = rayOrder_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
@@ -140,6 +143,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
   stats_.pathsInFlight = n;
   stats_.pathStateBytesPerPath = kPathStateBytes + shade_.BytesPerPath() +
+                                 (rayOrder_ ? 3 * sizeof(uint32_t) : 0) +
                                  (params_.featureBuffers ? kFeatureBytes : 0) +
                                  (scene_.HasInstances() ? kInstanceHitBytes : 0);
 }
