@@ -66,14 +66,18 @@ TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
   }
 }
 
-// --ray-order sorts each bounce's rays before tracing them: queue positions move, path numbers
-// do not, so the image is bit-identical on the CPU and on the GPU, with and without compaction
-// (without it finished paths are queued too and must sort last, untraced).
+// --ray-order traces each bounce's rays in a sorted copy of the queue: positions move, path
+// numbers do not, so the image is bit-identical on the CPU and on the GPU, with and without
+// compaction (without it finished paths are queued too and must sort last, untraced) and with
+// shading sorted by material (whose keys intersect writes in the traced order).
 TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
   Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 4, 7));
-  for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
+  for (auto [compact, sort] : {std::pair{Toggle::kOn, SortMode::kOff},
+                               std::pair{Toggle::kOff, SortMode::kOff},
+                               std::pair{Toggle::kOn, SortMode::kMaterial}}) {
     RenderOptions off, on;
     off.compact = on.compact = compact;
+    off.sort = on.sort = sort;
     off.rayOrder = Toggle::kOff;
     on.rayOrder = Toggle::kOn;
     std::vector<std::pair<RenderResult, RenderResult>> runs{{RenderOnCpu(scene, off), RenderOnCpu(scene, on)}};
@@ -83,7 +87,7 @@ TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
       EXPECT_TRUE(b.stats.rayOrderUsed);
       EXPECT_EQ(0, std::memcmp(a.image.rgb.data(), b.image.rgb.data(),
                                a.image.rgb.size() * sizeof(float)))
-          << a.stats.backend << ", compact " << int(compact);
+          << a.stats.backend << ", compact " << int(compact) << ", sort " << int(sort);
       EXPECT_EQ(a.stats.nodesVisited, b.stats.nodesVisited) << a.stats.backend;
     }
   }

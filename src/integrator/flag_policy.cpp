@@ -9,11 +9,15 @@ FlagChoice ChooseFlags(const RenderOptions& options) {
   return FlagChoice{compact};
 }
 
+// Sorting costs a pass over the rays and scatters the traced path state: it pays where the
+// traversal is long (large scenes) and only where rays run in lockstep. Measured on an H100
+// (benchmarks/RESULTS.md): a win on the Breakfast Room (270k triangles) and its 3.3M-triangle
+// variant, a loss on the bunny Cornell (69k) and pbrt's box.
+constexpr size_t kRayOrderMinPrims = size_t(1) << 17;
+
 bool ChooseRayOrder(Toggle asked, bool lockstep, size_t prims) {
   if (asked != Toggle::kAuto) return asked == Toggle::kOn;
-  (void)lockstep;
-  (void)prims;
-  return false;  // measured in benchmarks/RESULTS.md before it is turned on anywhere
+  return lockstep && prims >= kRayOrderMinPrims;
 }
 
 }  // namespace pt

@@ -152,9 +152,12 @@ class WavefrontIntegrator {
     uint32_t alive = n;
     for (int bounce = 0; alive > 0; ++bounce) {
       if (bounce > 0) stats_.extensionRays += alive;
-      if (bounce > 0 && rayOrder_) OrderRays(n);  // camera rays are in pixel order already
-      IntersectClosest(n);
-      Shade(wave, n);
+      // The order rays are traced in: sorted by ray (--ray-order; camera rays are in pixel order
+      // already), or the queue's. Shading keeps the queue's slot order, where the path state
+      // is read contiguously, unless it sorts by material (whose keys follow the traced order).
+      const uint32_t* traced = bounce > 0 && rayOrder_ ? OrderRays(n) : queue_.Data();
+      IntersectClosest(traced, n);
+      Shade(wave, sortMode_ == SortMode::kOff ? queue_.Data() : traced, n);
       // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
       // queues a light sample: after the last bounce there is nothing to trace or compact.
       if (bounce >= params_.maxDepth) break;
@@ -184,8 +187,8 @@ class WavefrontIntegrator {
     });
   }
 
-  // Ray order: the queue sorted by each ray's key (finished paths last), through a copy.
-  void OrderRays(uint32_t n) {
+  // Ray order: a copy of the queue sorted by each ray's key (finished paths last).
+  const uint32_t* OrderRays(uint32_t n) {
     if (rayQueue_.Size() != queue_.Size()) {
       for (Buffer<uint32_t>* b : {&rayKeys_, &rayKeysOut_, &rayQueue_}) b->Resize(queue_.Size());
       backend_.ReserveOrdering(
@@ -193,7 +196,7 @@ class WavefrontIntegrator {
     }
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
-    uint32_t* queue = queue_.Data();
+    const uint32_t* queue = queue_.Data();
     uint32_t* keys = rayKeys_.Data();
     backend_.ParallelFor(Stage::kSort, n, [=] PT_HD(uint32_t i) {
       const uint32_t id = queue[i];
@@ -203,14 +206,14 @@ class WavefrontIntegrator {
     uint32_t* ordered = rayQueue_.Data();
     backend_.OrderByKey(Stage::kSort, OrderShape{SortMethod::kRadix, kRayOrderKeyBits, 0, n},
                         OrderArrays{keys, queue, rayKeysOut_.Data(), ordered});
-    backend_.ParallelFor(Stage::kSort, n, [=] PT_HD(uint32_t i) { queue[i] = ordered[i]; });
+    return ordered;
   }
 
   // Intersect: closest hit per queued path, and its sort key when shading is ordered.
-  void IntersectClosest(uint32_t n) {
+  void IntersectClosest(const uint32_t* queue, uint32_t n) {
     ForTraversal([&](auto layout, auto instanced, auto hitTest) {
       IntersectLayout<decltype(layout)::value, decltype(instanced)::value,
-                      decltype(hitTest)::value>(n);
+                      decltype(hitTest)::value>(queue, n);
     });
   }
 
@@ -232,10 +235,9 @@ class WavefrontIntegrator {
   }
 
   template <BvhLayout L, bool kInstanced, bool kHitTest>
-  void IntersectLayout(uint32_t n) {
+  void IntersectLayout(const uint32_t* queue, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
-    const uint32_t* queue = queue_.Data();
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
@@ -246,10 +248,10 @@ class WavefrontIntegrator {
   // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette;
   // in the variant compiled for the scene's effects (with or without environment-map code),
   // in the order --sort asks for.
-  void Shade(const WaveInfo& wave, uint32_t n) {
+  void Shade(const WaveInfo& wave, const uint32_t* queue, uint32_t n) {
     typename ShadeLauncher<Backend>::Inputs in{sceneBuffers_.view, params_, pathState_};
     stats_.pathsOrdered +=
-        shade_.Shade(sortMode_, featureClass_, envMap_, wave, in, queue_.Data(), n);
+        shade_.Shade(sortMode_, featureClass_, envMap_, wave, in, queue, n);
   }
 
   // Shadow: any-hit test for each queued shadow ray.
