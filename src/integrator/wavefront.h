@@ -161,7 +161,9 @@ class WavefrontIntegrator {
       // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
       // queues a light sample: after the last bounce there is nothing to trace or compact.
       if (bounce >= params_.maxDepth) break;
-      TraceShadowRays(n);
+      // Shadow rays leave the hit points of the rays just traced: in the traced order, rays that
+      // arrived together leave together towards the same lights.
+      TraceShadowRays(traced, n);
       if (compact_) alive = n = CompactFinished(n);
       else alive = CountAlive(n);
     }
@@ -255,18 +257,17 @@ class WavefrontIntegrator {
   }
 
   // Shadow: any-hit test for each queued shadow ray.
-  void TraceShadowRays(uint32_t n) {
+  void TraceShadowRays(const uint32_t* queue, uint32_t n) {
     ForTraversal([&](auto layout, auto instanced, auto hitTest) {
       ShadowLayout<decltype(layout)::value, decltype(instanced)::value,
-                   decltype(hitTest)::value>(n);
+                   decltype(hitTest)::value>(queue, n);
     });
   }
 
   template <BvhLayout L, bool kInstanced, bool kHitTest>
-  void ShadowLayout(uint32_t n) {
+  void ShadowLayout(const uint32_t* queue, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
-    const uint32_t* queue = queue_.Data();
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
       TraceShadowRay<L, kInstanced, kHitTest>(scene, ps, queue[i], counters);
