@@ -12,15 +12,17 @@
 
 namespace pt {
 
-// Ordered after every ray: paths that are queued but finished (without compaction).
-constexpr uint32_t kRayOrderDeadKey = 1u << 30;
-constexpr uint32_t kRayOrderKeyBits = 31;
+// 24 bits: three passes of the GPU's 8-bit radix sort. Finished paths (queued only without
+// compaction) take the largest key; where they fall among live rays does not matter, they are
+// skipped.
+constexpr uint32_t kRayOrderKeyBits = 24;
+constexpr uint32_t kRayOrderDeadKey = (1u << kRayOrderKeyBits) - 1u;
 
 namespace detail {
 
-// The low 9 bits of v spread to every third bit (bit k to bit 3k).
+// The low 7 bits of v spread to every third bit (bit k to bit 3k).
 PT_HDI uint32_t SpreadBits3(uint32_t v) {
-  v &= 0x1ffu;
+  v &= 0x7fu;
   v = (v | (v << 16)) & 0x030000ffu;
   v = (v | (v << 8)) & 0x0300f00fu;
   v = (v | (v << 4)) & 0x030c30c3u;
@@ -28,22 +30,22 @@ PT_HDI uint32_t SpreadBits3(uint32_t v) {
   return v;
 }
 
-PT_HDI uint32_t Cell9(float x) {  // x in [0, 1] to 0..511 (NaN and outside clamp)
-  float c = fminf(fmaxf(x * 512.0f, 0.0f), 511.0f);
+PT_HDI uint32_t Cell7(float x) {  // x in [0, 1] to 0..127 (NaN and outside clamp)
+  float c = fminf(fmaxf(x * 128.0f, 0.0f), 127.0f);
   return uint32_t(c);
 }
 
 }  // namespace detail
 
-// 3 octant bits above a 27-bit Morton code of the origin (9 bits per axis).
+// 3 octant bits above a 21-bit Morton code of the origin (7 bits per axis).
 PT_HDI uint32_t RayOrderKey(const SceneView& s, vec3 o, vec3 d) {
   const uint32_t octant = uint32_t(d.x < 0.0f) | uint32_t(d.y < 0.0f) << 1 | uint32_t(d.z < 0.0f) << 2;
   const float inv = 0.5f / fmaxf(s.sceneRadius, 1e-30f);
   const vec3 u = (o - s.sceneCenter) * inv + vec3(0.5f);
-  const uint32_t morton = detail::SpreadBits3(detail::Cell9(u.x)) |
-                          detail::SpreadBits3(detail::Cell9(u.y)) << 1 |
-                          detail::SpreadBits3(detail::Cell9(u.z)) << 2;
-  return octant << 27 | morton;
+  const uint32_t morton = detail::SpreadBits3(detail::Cell7(u.x)) |
+                          detail::SpreadBits3(detail::Cell7(u.y)) << 1 |
+                          detail::SpreadBits3(detail::Cell7(u.z)) << 2;
+  return octant << 21 | morton;
 }
 
 }  // namespace pt
