@@ -71,7 +71,8 @@ TEST(BackendAgreementGpu, CompactionAndSortDoNotChangeTheGpuImage) {
 // compaction (without it finished paths are queued too and must sort last, untraced) and with
 // shading sorted by material (whose keys intersect writes in the traced order).
 TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
-  Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 4, 7));
+  Scene scene =
+      BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 4, 7));
   for (auto [compact, sort] : {std::pair{Toggle::kOn, SortMode::kOff},
                                std::pair{Toggle::kOff, SortMode::kOff},
                                std::pair{Toggle::kOn, SortMode::kMaterial}}) {
@@ -80,7 +81,8 @@ TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
     off.sort = on.sort = sort;
     off.rayOrder = Toggle::kOff;
     on.rayOrder = Toggle::kOn;
-    std::vector<std::pair<RenderResult, RenderResult>> runs{{RenderOnCpu(scene, off), RenderOnCpu(scene, on)}};
+    std::vector<std::pair<RenderResult, RenderResult>> runs{
+        {RenderOnCpu(scene, off), RenderOnCpu(scene, on)}};
     if (HaveGpu()) runs.push_back({RenderCuda(scene, off), RenderCuda(scene, on)});
     for (const auto& [a, b] : runs) {
       EXPECT_FALSE(a.stats.rayOrderUsed);

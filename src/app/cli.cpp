@@ -129,7 +129,8 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--width", [](CliOptions& o, ValueSource& s) { o.width = ParseInt(s, 1, kMaxImageSide); }},
       {"--height",
        [](CliOptions& o, ValueSource& s) { o.height = ParseInt(s, 1, kMaxImageSide); }},
-      {"--max-depth", [](CliOptions& o, ValueSource& s) { o.maxDepth = ParseInt(s, 0, kMaxBounces); }},
+      {"--max-depth",
+       [](CliOptions& o, ValueSource& s) { o.maxDepth = ParseInt(s, 0, kMaxBounces); }},
       {"--seed",
        [](CliOptions& o, ValueSource& s) {
          o.seed = uint32_t(ParseInteger(s.Option(), s.Take(), 0, UINT32_MAX));

@@ -162,7 +162,7 @@ inline __m128 WideBytes(uint32_t w) {
   return _mm_cvtepi32_ps(v);
 }
 
-// always_inline spelled out: host-only code, so not PT_HDI_HOT (whose GPU half is meaningless here).
+// always_inline spelled out: host-only code, so not PT_HDI_HOT (made for host-and-device code).
 inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
     const WideNodeWords& n, const WideRay& r, float tMax, const float adj[3], const float nearD[3],
     const float farD[3]) {

@@ -39,7 +39,8 @@ PT_HDI uint32_t Cell7(float x) {  // x in [0, 1] to 0..127 (NaN and outside clam
 
 // 3 octant bits above a 21-bit Morton code of the origin (7 bits per axis).
 PT_HDI uint32_t RayOrderKey(const SceneView& s, vec3 o, vec3 d) {
-  const uint32_t octant = uint32_t(d.x < 0.0f) | uint32_t(d.y < 0.0f) << 1 | uint32_t(d.z < 0.0f) << 2;
+  const uint32_t octant =
+      uint32_t(d.x < 0.0f) | uint32_t(d.y < 0.0f) << 1 | uint32_t(d.z < 0.0f) << 2;
   const float inv = 0.5f / fmaxf(s.sceneRadius, 1e-30f);
   const vec3 u = (o - s.sceneCenter) * inv + vec3(0.5f);
   const uint32_t morton = detail::SpreadBits3(detail::Cell7(u.x)) |
