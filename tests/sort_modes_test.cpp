@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 
 #include "cpu_backend/cpu_backend.h"
 #include "src/integrator/shade_order.h"
+#include "src/integrator/stages/ray_order.h"
 #include "tests/material_zoo.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -171,6 +173,53 @@ TEST(SortModes, MaterialCountAboveTheKeyWidth) {
 }
 
 // The orderings themselves: every method gives keys in order and the same multiset of pairs.
+// --ray-order traces each bounce's rays in a sorted copy of the queue: positions move, path
+// numbers do not, so the image (and the traversal work) is the same with every shading order,
+// with and without compaction (without it finished paths are queued too, and skipped).
+TEST(RayOrder, GivesTheSameImageWithEveryShadingOrder) {
+  std::string dir = TempDir();
+  Scene scene = BuildScene(MaterialZooDesc(dir, 6, 24, 2, 6));
+  RenderResult base = RenderWith(scene, SortMode::kOff, SortMethod::kAuto, Toggle::kOn);
+  EXPECT_FALSE(base.stats.rayOrderUsed);  // auto: off on the CPU
+  for (SortMode mode : {SortMode::kOff, SortMode::kMaterial, SortMode::kQueues})
+    for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
+      RenderOptions o;
+      o.threads = 2;
+      o.sort = mode;
+      o.compact = compact;
+      o.rayOrder = Toggle::kOn;
+      RenderResult r = RenderCpu(scene, o);
+      EXPECT_TRUE(r.stats.rayOrderUsed);
+      EXPECT_TRUE(SameImage(base.image, r.image))
+          << SortModeName(mode) << " compact " << int(compact);
+      EXPECT_EQ(r.stats.nodesVisited, base.stats.nodesVisited) << SortModeName(mode);
+    }
+}
+
+// The key: the direction's octant in the top 3 of 24 bits, then the origin's Morton code in
+// the scene's bounding cube (clamped outside it, and for NaN).
+TEST(RayOrder, KeyIsOctantThenMortonCode) {
+  SceneView s;
+  s.sceneCenter = vec3(0.0f);
+  s.sceneRadius = 1.0f;
+  const vec3 o(0.0f);
+  for (uint32_t oct = 0; oct < 8; ++oct) {
+    vec3 d((oct & 1) ? -1.0f : 1.0f, (oct & 2) ? -1.0f : 1.0f, (oct & 4) ? -1.0f : 1.0f);
+    EXPECT_EQ(RayOrderKey(s, o, d) >> 21, oct);
+  }
+  const vec3 up(0.0f, 0.0f, 1.0f);
+  EXPECT_EQ(RayOrderKey(s, vec3(-1.0f), up), 0u);
+  EXPECT_EQ(RayOrderKey(s, vec3(5.0f), up), (1u << 21) - 1u);  // outside: the last cell
+  EXPECT_EQ(RayOrderKey(s, vec3(std::nanf("")), up), 0u);
+  // x is the lowest Morton bit: one cell along +x moves the key by 1, along +y by 2, +z by 4.
+  const float cell = 2.0f / 128.0f;
+  const vec3 p(-1.0f + 0.5f * cell);
+  EXPECT_EQ(RayOrderKey(s, p + vec3(cell, 0, 0), up) - RayOrderKey(s, p, up), 1u);
+  EXPECT_EQ(RayOrderKey(s, p + vec3(0, cell, 0), up) - RayOrderKey(s, p, up), 2u);
+  EXPECT_EQ(RayOrderKey(s, p + vec3(0, 0, cell), up) - RayOrderKey(s, p, up), 4u);
+  EXPECT_LT(RayOrderKey(s, vec3(1.0f), -up), 1u << kRayOrderKeyBits);
+}
+
 TEST(OrderByKey, EveryMethodOrdersThePairs) {
   CpuBackend backend(1);
   const uint32_t n = 1000, keyCount = 37;
