@@ -1,10 +1,10 @@
-// Ray ordering (--ray-order): before a bounce's intersect, the queue can be sorted by a key of
-// each path's ray, so that a GPU warp traces rays that start near each other and head the same
-// way (they walk the same nodes, in the same child order: the wide traversal orders children
-// by the ray's octant). Escaped-and-scattered secondary rays otherwise fill warps at random,
-// and a warp runs as long as its longest ray (Meister et al. 2020 survey such keys). The key:
-// the direction's octant, then the origin's Morton code within the scene's bounding sphere.
-// Paths are queue positions only: the image does not depend on the order.
+// Ray ordering (--ray-order): before a bounce's intersect, a copy of the queue is sorted by a
+// key of each path's ray, so that a GPU warp traces rays that start near each other and head
+// the same way (they walk the same nodes, in the same child order: the wide traversal orders
+// children by the ray's octant). Scattered secondary rays otherwise fill warps at random, and
+// a warp runs as long as its longest ray (Meister et al. 2020 survey such keys). The key: the
+// direction's octant, then the origin's Morton code in the cube around the scene's bounding
+// sphere. Only the order of work changes, never a path's numbers: the image is the same.
 #pragma once
 
 #include "src/core/math.h"
