@@ -179,12 +179,10 @@ inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
       t0 = _mm_max_ps(tn, t0);
       t1 = _mm_min_ps(tf, t1);
     }
-    uint32_t mask = uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, scale))));
-    const uint32_t meta4 = n.w[6 + half];
-    while (mask != 0) {
-      hits |= SlotHitBits(meta4, LowestBit(mask), r.octInv);
-      mask &= mask - 1u;
-    }
+    const uint32_t mask = uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, scale))));
+    // Without branches: which slots a random ray hits is unpredictable.
+    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
+    for (uint32_t k = 0; k < 4; ++k) hits |= slots.HitBits(k) & (0u - ((mask >> k) & 1u));
   }
   return hits;
 }
