@@ -126,17 +126,10 @@ struct WideRay {
 constexpr float kWideSlack = Gamma(7);
 constexpr float kWideFarScale = 1.0f + 2.0f * Gamma(4);
 
-// The hit children's mask bits: meta >> 5 at bit meta & 31 (interior: slot ^ octInv).
-PT_HDI uint32_t SlotHitBits(uint32_t meta4, uint32_t k, uint32_t octInv) {
-  const uint32_t meta = (meta4 >> (8u * k)) & 0xffu;
-  uint32_t bit = meta & 31u;
-  bit = bit >= 24u ? bit ^ octInv : bit;
-  return (meta >> 5) << bit;
-}
-
-// SlotHitBits for four slots at once, decoded with a few word-wide operations per node half
-// instead of several per slot: an interior child's index (24 + slot: bits 3 and 4 set) has its
-// slot mirrored by the octant, and the meta's top three bits are the bits to set there.
+// A hit child's mask bits: meta >> 5 at bit meta & 31, where an interior child's bit (24 +
+// slot: bits 3 and 4 set) has its slot mirrored by the ray's octant (^ octInv). Decoded for a
+// node half's four meta bytes at once, with a few word-wide operations instead of several per
+// slot (tests/bvh_wide_test.cpp checks it against the per-byte rule).
 struct SlotBits4 {
   uint32_t bitIndex4, childBits4;
 

@@ -28,6 +28,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.compact = o.compact;
   options_.sort = o.sort;
   options_.sortMethod = o.sortMethod;
+  options_.rayOrder = o.rayOrder;
   options_.integrator = o.integrator;
   options_.lightPaths = o.lightPaths;
   options_.specialize = o.specialize;
@@ -40,8 +41,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
-  options_.rayOrder = o.rayOrder;
-  rayOrder_ = ChooseRayOrder(o.rayOrder, Backend::kLockstepLanes, scene_.prims.size());
+  rayOrder_ = ChooseRayOrder(options_.rayOrder, Backend::kLockstepLanes, scene_.prims.size());
   stats_.rayOrderUsed = rayOrder_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
