@@ -147,6 +147,51 @@ TEST(BvhWide, ClosestHitIsIndependentOfLayoutAndBuilder) {
   }
 }
 
+// Overlapping coplanar triangles and quads (a rug on a floor, decals): their computed hit
+// distances differ only by rounding, up to ~1e-5 before the plane's exact distance, which is
+// also their boxes' entry distance. Every tree must still return brute force's hit: a node
+// is never culled by a hit that its own shape's distance, raised to its box entry
+// (ShapeBoxEntry), could beat.
+TEST(BvhWide, ClosestHitOnCoincidentSurfacesIsIndependentOfTheTree) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f), u01(0.0f, 1.0f);
+  const float plane = 0.3719f;
+  Soup soup;
+  for (int i = 0; i < 400; ++i) {
+    auto p = [&] { return vec3(u(rng), plane, u(rng)); };
+    soup.tris.push_back({p(), p(), p()});
+  }
+  for (int i = 0; i < 40; ++i) {
+    soup.quads.push_back({vec3(u(rng), plane, u(rng)), vec3(3.0f * u01(rng), 0.0f, 0.0f),
+                          vec3(0.0f, 0.0f, 3.0f * u01(rng))});
+  }
+  std::vector<Ray> rays;
+  for (int i = 0; i < 20000; ++i) {
+    const float height = (i % 2 ? 1.0f : -1.0f) * (0.005f + 0.3f * u01(rng));
+    vec3 d = RandomDir(rng);
+    if ((d.y < 0.0f) == (height < 0.0f)) d.y = -d.y;  // towards the plane
+    rays.push_back(Ray{vec3(u(rng), plane + height, u(rng)), d});
+  }
+  for (const auto& [layout, builder] : {std::pair{BvhLayout::kBinary, BvhBuilder::kSah},
+                                        std::pair{BvhLayout::kWide, BvhBuilder::kSah},
+                                        std::pair{BvhLayout::kWide, BvhBuilder::kSbvh}}) {
+    SCOPED_TRACE(std::string(BvhLayoutName(layout)) + " " + BvhBuilderName(builder));
+    ShapeScene scene = BuildSoup(soup, layout, builder);
+    int hits = 0, differ = 0;
+    for (const Ray& ray : rays) {
+      HitRecord bvh, brute;
+      const bool hit = IntersectClosest(scene.view, ray, kInfinity, &bvh, nullptr);
+      ASSERT_EQ(hit, BruteForceClosest(scene.view, ray, kInfinity, &brute));
+      if (!hit) continue;
+      ++hits;
+      differ += bvh.t != brute.t || scene.view.prims[bvh.prim].tagIndex !=
+                                        scene.view.prims[brute.prim].tagIndex;
+    }
+    EXPECT_EQ(differ, 0) << "of " << hits << " hits";
+    EXPECT_GT(hits, int(rays.size()) / 2);
+  }
+}
+
 Aabb WideChildBox(const WideBvhNode& n, int slot) {
   Aabb box;
   for (int a = 0; a < 3; ++a) {

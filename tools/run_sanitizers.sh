@@ -35,6 +35,7 @@ EXCLUDE="${PT_SANITIZE_EXCLUDE-^MalformedScenes\.CliExitsTwoAndWritesNothing$}"
 
 START=$(date +%s)
 cmake -S "$ROOT" -B "$BUILD" -G Ninja -DPT_SANITIZE=ON -DPT_ENABLE_CUDA=OFF -DPT_ENABLE_MPI=OFF \
+  -DPT_HOST_ISA=baseline \
   -DCMAKE_BUILD_TYPE=Asan -DCMAKE_CXX_FLAGS_ASAN="-O1 -g1 -fno-omit-frame-pointer" >/dev/null
 # The suite and what it runs (pathtracer, make_mesh_glb, make_sky), not the benchmark tools.
 cmake --build "$BUILD" -j "$JOBS" --target pt_tests pathtracer

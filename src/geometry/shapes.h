@@ -41,6 +41,10 @@ PT_HDI float MaxAbs(float a, float b, float c) {
   return MaxIgnoreNan(MaxIgnoreNan(fabsf(a), fabsf(b)), fabsf(c));
 }
 
+// As the triangle's box has them (TriangleBounds: a NaN coordinate is ignored).
+PT_HDI float Min3(float a, float b, float c) { return MinIgnoreNan(MinIgnoreNan(a, b), c); }
+PT_HDI float Max3(float a, float b, float c) { return MaxIgnoreNan(MaxIgnoreNan(a, b), c); }
+
 // Per axis |a_y b_z| + |a_z b_y| etc.: bounds |cross(a, b)| including its rounding.
 PT_HDI vec3 AbsCross(vec3 a, vec3 b) {
   return vec3(fabsf(a.y * b.z) + fabsf(a.z * b.y), fabsf(a.z * b.x) + fabsf(a.x * b.z),
@@ -49,14 +53,43 @@ PT_HDI vec3 AbsCross(vec3 a, vec3 b) {
 
 }  // namespace detail
 
+// ---- Bounds (conservative: rounding of computed corners is padded outwards) ----
+
+PT_HDI Aabb TriangleBounds(const Triangle& tri) {
+  Aabb b = Aabb::FromPoints(tri.p0, tri.p1);
+  b.Extend(tri.p2);
+  return b;
+}
+
+PT_HDI Aabb QuadBounds(const Quad& q) {
+  Aabb b = Aabb::FromPoints(q.origin, q.origin + q.u);
+  b.Extend(q.origin + q.v);
+  b.Extend(q.origin + q.u + q.v);
+  vec3 pad = Gamma(3) * (Abs(q.origin) + Abs(q.u) + Abs(q.v));
+  b.lo -= pad;
+  b.hi += pad;
+  return b;
+}
+
+PT_HDI Aabb SphereBounds(const Sphere& sph) {
+  vec3 r = vec3(fabsf(sph.radius));
+  vec3 pad = Gamma(2) * (Abs(sph.center) + r);
+  Aabb b;
+  b.lo = sph.center - r - pad;
+  b.hi = sph.center + r + pad;
+  return b;
+}
+
 // Per-ray constants of the watertight triangle test (Woop, Benthin, Wald 2013): the dominant
 // axis of d becomes z, and a shear maps d onto +z. Traversal computes it once per ray.
 struct TriangleRayData {
   int kx, ky, kz;
   float sx, sy, sz;
+  vec3 invDir;  // for the hit's box entry (ShapeBoxEntry)
 
   PT_HDI_HOT static TriangleRayData Make(vec3 d) {
     TriangleRayData r;
+    r.invDir = vec3(1.0f / d.x, 1.0f / d.y, 1.0f / d.z);
     r.kz = MaxDimension(Abs(d));
     r.kx = r.kz == 2 ? 0 : r.kz + 1;
     r.ky = r.kx == 2 ? 0 : r.kx + 1;
@@ -122,6 +155,14 @@ PT_HDI_HOT bool IntersectTriangle(const Triangle& tri, const Ray& ray, const Tri
   float maxE = detail::MaxAbs(e0, e1, e2);
   float deltaT = 3.0f * (Gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * fabsf(invDet);
   if (t <= deltaT) return false;
+  // Never a hit before its box's entry (see ShapeBoxEntry): the box's near corner per axis.
+  const vec3 lo = glm::min(glm::min(tri.p0, tri.p1), tri.p2);
+  const vec3 hi = glm::max(glm::max(tri.p0, tri.p1), tri.p2);
+  const vec3 nearCorner(rd.invDir.x < 0.0f ? hi.x : lo.x, rd.invDir.y < 0.0f ? hi.y : lo.y,
+                        rd.invDir.z < 0.0f ? hi.z : lo.z);
+  const float entry = ShapeBoxEntry(nearCorner, ray.o, rd.invDir);
+  if (entry > t) t = entry;
+  if (!(t < tMax)) return false;
 
   *tHit = t;
   *bary = vec2(e1 * invDet, e2 * invDet);
@@ -152,6 +193,10 @@ PT_HDI bool IntersectQuad(const Quad& q, const Ray& ray, float tMax, float* tHit
   float s = glm::dot(n, glm::cross(rel, q.v)) * invNn;
   float tt = glm::dot(n, glm::cross(q.u, rel)) * invNn;
   if (!(s >= 0.0f && s <= 1.0f && tt >= 0.0f && tt <= 1.0f)) return false;
+  const Aabb box = QuadBounds(q);  // never a hit before its box: see ShapeBoxEntry
+  const float entry = ShapeBoxEntry(box.lo, box.hi, ray.o, ray.d);
+  if (entry > t) t = entry;
+  if (!(t < tMax)) return false;
   *tHit = t;
   *st = vec2(s, tt);
   return true;
@@ -178,6 +223,10 @@ PT_HDI bool IntersectSphere(const Sphere& sph, const Ray& ray, float tMax, float
   float tNear = tA < tB ? tA : tB, tFar = tA < tB ? tB : tA;
   float t = tNear > 0.0f ? tNear : tFar;
   if (!(t > 0.0f && t < tMax)) return false;
+  const Aabb box = SphereBounds(sph);  // never a hit before its box: see ShapeBoxEntry
+  const float entry = ShapeBoxEntry(box.lo, box.hi, ray.o, ray.d);
+  if (entry > t) t = entry;
+  if (!(t < tMax)) return false;
   *tHit = t;
   return true;
 }
@@ -331,33 +380,6 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
   si.light = InstanceLight(inst, si.light, s.prims[hit.prim].Index());
   InstanceToWorld(inst, &si);
   return si;
-}
-
-// ---- Bounds (conservative: rounding of computed corners is padded outwards) ----
-
-PT_HDI Aabb TriangleBounds(const Triangle& tri) {
-  Aabb b = Aabb::FromPoints(tri.p0, tri.p1);
-  b.Extend(tri.p2);
-  return b;
-}
-
-PT_HDI Aabb QuadBounds(const Quad& q) {
-  Aabb b = Aabb::FromPoints(q.origin, q.origin + q.u);
-  b.Extend(q.origin + q.v);
-  b.Extend(q.origin + q.u + q.v);
-  vec3 pad = Gamma(3) * (Abs(q.origin) + Abs(q.u) + Abs(q.v));
-  b.lo -= pad;
-  b.hi += pad;
-  return b;
-}
-
-PT_HDI Aabb SphereBounds(const Sphere& sph) {
-  vec3 r = vec3(fabsf(sph.radius));
-  vec3 pad = Gamma(2) * (Abs(sph.center) + r);
-  Aabb b;
-  b.lo = sph.center - r - pad;
-  b.hi = sph.center + r + pad;
-  return b;
 }
 
 PT_HDI Aabb PrimBounds(const Triangle& tri) { return TriangleBounds(tri); }

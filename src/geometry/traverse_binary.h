@@ -72,7 +72,7 @@ PT_HDI void Traverse(const BinaryBvh& bvh, const Ray& ray, float* tMaxInOut, Lea
       uint32_t left = n.leftOrFirst;
       const BvhNode& l = nodes[left];
       const BvhNode& r = nodes[left + 1];
-      float tl, tr;
+      float tl = 0.0f, tr = 0.0f;  // read only where their test hit (and set them)
       bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, ray.o, invDir, tMax, &tl);
       bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, ray.o, invDir, tMax, &tr);
       if (hitL && hitR) {

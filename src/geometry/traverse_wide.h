@@ -5,14 +5,11 @@
 // go to the leaf callback (same contract as traverse_binary.h) one at a time.
 //
 // The box test is conservative although it works on quantised boxes with the cheap form
-// t = q * (scale / d) + (origin - o) / d: see WideSlabs below.
+// t = q * (scale / d) + (origin - o) / d: see kWideSlack in wide_node_test.h.
 #pragma once
 
 #include "src/geometry/traverse_binary.h"
-
-#if !PT_IS_GPU_CODE && defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "src/geometry/wide_node_test.h"
 
 namespace pt {
 
@@ -45,6 +42,8 @@ PT_HDI uint32_t LowestBit(uint32_t x) {  // x != 0
 PT_HDI uint32_t PopCount8(uint32_t x) {  // x < 256
 #if PT_IS_GPU_CODE
   return uint32_t(__popc(x));
+#elif defined(__POPCNT__)
+  return uint32_t(__builtin_popcount(x));
 #else
   // Baseline x86-64 has no popcnt instruction (the builtin becomes a libgcc call).
   x = x - ((x >> 1) & 0x55u);
@@ -53,175 +52,6 @@ PT_HDI uint32_t PopCount8(uint32_t x) {  // x < 256
 #endif
 }
 
-// Byte k of w as a float, exactly. On the GPU a byte permute into 2^23 + b and one subtraction
-// replace the quarter-rate integer-to-float conversion.
-PT_HDI float ByteAsFloat(uint32_t w, uint32_t k) {
-#if PT_IS_GPU_CODE
-  return __uint_as_float(__byte_perm(w, 0x4B000000u, 0x7540u | k)) - 8388608.0f;
-#else
-  return float((w >> (8u * k)) & 0xffu);
-#endif
-}
-
-// q * a + b: fused on the GPU, two roundings on the host; WideSlabs' bound covers both.
-PT_HDI float MulAdd(float q, float a, float b) {
-#if PT_IS_GPU_CODE
-  return __fmaf_rn(q, a, b);
-#else
-  return q * a + b;
-#endif
-}
-
-PT_HDI float FloatFromBits(uint32_t bits) {
-#if PT_IS_GPU_CODE
-  return __uint_as_float(bits);
-#else
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-#endif
-}
-
-// The node as 20 words, read as five 16-byte loads on the GPU.
-struct WideNodeWords {
-  uint32_t w[20];
-};
-
-PT_HDI_HOT WideNodeWords LoadWideNode(const WideBvhNode* node) {
-  WideNodeWords n;
-#if PT_IS_GPU_CODE
-  const uint4* p = reinterpret_cast<const uint4*>(node);
-  for (int i = 0; i < 5; ++i) {
-    uint4 v = __ldg(p + i);
-    n.w[4 * i] = v.x;
-    n.w[4 * i + 1] = v.y;
-    n.w[4 * i + 2] = v.z;
-    n.w[4 * i + 3] = v.w;
-  }
-#else
-  static_assert(sizeof(WideBvhNode) == sizeof(WideNodeWords), "WideBvhNode is 80 bytes");
-  std::memcpy(&n, node, sizeof n);
-#endif
-  return n;
-}
-
-// Per-ray constants of the wide box test.
-struct WideRay {
-  vec3 o, invDir;
-  uint32_t octInv;  // 7 - octant (octant bit a: the ray goes towards -a)
-  bool neg[3];
-  // Host: the words of WideNodeWords holding each axis's near and far planes (qlo at 8 + 2a,
-  // qhi at 14 + 2a; swapped where the ray goes down), read by index rather than by selects.
-  uint32_t nearWord[3], farWord[3];
-};
-
-// Error bound of the slab distances (for a box bound b = origin + q * scale, exact value
-// T = (b - o) / d), computed as t = q * adj + (A -+ E) with A = (origin - o) * invDir,
-// adj = scale * invDir (exact: scale is a power of two) and E = gamma(7) |A|. Each of the
-// roundings of 1/d, origin - o, the product, q * adj (host only) and the sum gives
-// t = (1 + theta) T + zeta with |theta| <= gamma(3) and |zeta| <= gamma(6) |A|: so moving the
-// near distances down and the far ones up by E leaves only relative error, which the far scale
-// below absorbs, as in IntersectAabb (Ize 2013). A NaN (a zero direction component, 0 * inf)
-// is ignored by the min/max and so never culls.
-constexpr float kWideSlack = Gamma(7);
-constexpr float kWideFarScale = 1.0f + 2.0f * Gamma(4);
-
-// A hit child's mask bits: meta >> 5 at bit meta & 31, where an interior child's bit (24 +
-// slot: bits 3 and 4 set) has its slot mirrored by the ray's octant (^ octInv). Decoded for a
-// node half's four meta bytes at once, with a few word-wide operations instead of several per
-// slot (tests/bvh_wide_test.cpp checks it against the per-byte rule).
-struct SlotBits4 {
-  uint32_t bitIndex4, childBits4;
-
-  PT_HDI static SlotBits4 Decode(uint32_t meta4, uint32_t octInv) {
-    const uint32_t interior4 = meta4 & (meta4 << 1) & 0x10101010u;
-    return SlotBits4{(meta4 ^ ((interior4 >> 4) * octInv)) & 0x1f1f1f1fu,
-                     (meta4 >> 5) & 0x07070707u};
-  }
-  PT_HDI uint32_t HitBits(uint32_t k) const {
-    return ((childBits4 >> (8u * k)) & 0xffu) << ((bitIndex4 >> (8u * k)) & 0xffu);
-  }
-};
-
-#if !PT_IS_GPU_CODE && defined(__SSE2__)
-#define PT_WIDE_SSE 1
-// The host's version of the test below: four slots per SSE instruction, the same operations
-// in the same order (so the same mask). _mm_max_ps(b, a) is b > a ? b : a, which ignores a NaN
-// in b exactly as MaxIgnoreNan(a, b) does.
-inline __m128 WideBytes(uint32_t w) {
-  const __m128i zero = _mm_setzero_si128();
-  __m128i v = _mm_cvtsi32_si128(int(w));
-  v = _mm_unpacklo_epi16(_mm_unpacklo_epi8(v, zero), zero);
-  return _mm_cvtepi32_ps(v);
-}
-
-// always_inline spelled out: host-only code, so not PT_HDI_HOT (made for host-and-device code).
-inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
-    const WideNodeWords& n, const WideRay& r, float tMax, const float adj[3], const float nearD[3],
-    const float farD[3]) {
-  const __m128 tMaxV = _mm_set1_ps(tMax), scale = _mm_set1_ps(kWideFarScale);
-  uint32_t hits = 0;
-  for (int half = 0; half < 2; ++half) {
-    __m128 t0 = _mm_setzero_ps(), t1 = tMaxV;
-    for (int a = 0; a < 3; ++a) {
-      const __m128 adjA = _mm_set1_ps(adj[a]);
-      __m128 tn = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.nearWord[a] + half]), adjA),
-                             _mm_set1_ps(nearD[a]));
-      __m128 tf = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.farWord[a] + half]), adjA),
-                             _mm_set1_ps(farD[a]));
-      t0 = _mm_max_ps(tn, t0);
-      t1 = _mm_min_ps(tf, t1);
-    }
-    const uint32_t mask = uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, scale))));
-    // Without branches: which slots a random ray hits is unpredictable.
-    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
-    for (uint32_t k = 0; k < 4; ++k) hits |= slots.HitBits(k) & (0u - ((mask >> k) & 1u));
-  }
-  return hits;
-}
-#endif
-
-// Bit mask of the children of `n` that the ray enters within [0, tMax]: interior children at
-// bit 24 + (slot ^ octInv), each leaf's primitives at bits [offset, offset + count).
-PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
-  const float px = FloatFromBits(n.w[0]), py = FloatFromBits(n.w[1]), pz = FloatFromBits(n.w[2]);
-  const uint32_t e = n.w[3];
-  const float adjX = FloatFromBits((e & 0xffu) << 23) * r.invDir.x;
-  const float adjY = FloatFromBits(((e >> 8) & 0xffu) << 23) * r.invDir.y;
-  const float adjZ = FloatFromBits(((e >> 16) & 0xffu) << 23) * r.invDir.z;
-  const float ax = (px - r.o.x) * r.invDir.x, ay = (py - r.o.y) * r.invDir.y,
-              az = (pz - r.o.z) * r.invDir.z;
-  const float ex = kWideSlack * fabsf(ax), ey = kWideSlack * fabsf(ay), ez = kWideSlack * fabsf(az);
-  const float nearX = ax - ex, nearY = ay - ey, nearZ = az - ez;
-  const float farX = ax + ex, farY = ay + ey, farZ = az + ez;
-#ifdef PT_WIDE_SSE
-  const float adj[3] = {adjX, adjY, adjZ}, nearD[3] = {nearX, nearY, nearZ},
-              farD[3] = {farX, farY, farZ};
-  return IntersectWideChildrenSse(n, r, tMax, adj, nearD, farD);
-#else
-  uint32_t hits = 0;
-  for (int half = 0; half < 2; ++half) {
-    // qlo words at 8 + 2 axis + half, qhi at 14 + 2 axis + half; swapped where the ray goes down.
-    uint32_t loX = n.w[8 + half], hiX = n.w[14 + half];
-    uint32_t loY = n.w[10 + half], hiY = n.w[16 + half];
-    uint32_t loZ = n.w[12 + half], hiZ = n.w[18 + half];
-    const uint32_t qnX = r.neg[0] ? hiX : loX, qfX = r.neg[0] ? loX : hiX;
-    const uint32_t qnY = r.neg[1] ? hiY : loY, qfY = r.neg[1] ? loY : hiY;
-    const uint32_t qnZ = r.neg[2] ? hiZ : loZ, qfZ = r.neg[2] ? loZ : hiZ;
-    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
-    for (uint32_t k = 0; k < 4; ++k) {
-      float t0 = MulAdd(ByteAsFloat(qnX, k), adjX, nearX);
-      t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), adjY, nearY));
-      t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnZ, k), adjZ, nearZ));
-      float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), adjX, farX));
-      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), adjY, farY));
-      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), adjZ, farZ));
-      if (t0 <= t1 * kWideFarScale) hits |= slots.HitBits(k);
-    }
-  }
-  return hits;
-#endif
-}
 
 }  // namespace detail
 
@@ -289,12 +119,11 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
       const uint32_t index =
           groupBase + detail::PopCount8(groupMask & 0xffu & ((1u << slot) - 1u));
       ++nodesVisited;
-      const detail::WideNodeWords n = detail::LoadWideNode(bvh.nodes + index);
-      const uint32_t hits = detail::IntersectWideChildren(n, r, tMax);
-      groupBase = n.w[4];
-      groupMask = (hits & 0xff000000u) | (n.w[3] >> 24);
-      primBase = n.w[5];
-      primMask = hits & 0x00ffffffu;
+      const detail::WideNodeHits n = detail::TestWideNode(bvh.nodes + index, r, tMax);
+      groupBase = n.childBase;
+      groupMask = (n.hits & 0xff000000u) | n.innerMask;
+      primBase = n.primBase;
+      primMask = n.hits & 0x00ffffffu;
       if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
           postponed < kWidePostponed && stackSize < kWideStackCapacity) {
         push(primBase, primMask);

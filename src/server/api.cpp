@@ -179,7 +179,10 @@ ApiResponse HandleApi(LiveRender& live, const ApiRequest& request) {
 }
 
 bool HostAllowed(const std::string& host, const std::string& bindAddress, int port) {
-  std::string suffix = ":" + std::to_string(port);
+  // Appended rather than ":" + to_string(port): GCC 12 at -march=x86-64-v3 gives a false
+  // -Wstringop-overflow on the latter.
+  std::string suffix(":");
+  suffix += std::to_string(port);
   if (host.size() <= suffix.size() || host.compare(host.size() - suffix.size(), suffix.size(), suffix) != 0) {
     return false;
   }

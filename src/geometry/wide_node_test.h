@@ -1,0 +1,262 @@
+// The wide BVH's node test (traverse_wide.h): which of a compressed node's eight quantised
+// child boxes a ray enters, as the mask bits the traversal consumes. One rule, three bodies:
+// scalar (GPU and hosts without SSE), four slots per SSE2 instruction, and all eight slots per
+// AVX2 instruction on x86-64-v3 hosts (CMake's PT_HOST_ISA). All are conservative: a quantised
+// box never culls what the exact box would keep (see kWideSlack), so whichever runs, the
+// closest hit is the same (traverse.h).
+#pragma once
+
+#include <cstring>
+
+#include "src/geometry/aabb.h"
+#include "src/scene/scene_types.h"
+
+#if !PT_IS_GPU_CODE && defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define PT_WIDE_AVX2 1
+#elif !PT_IS_GPU_CODE && defined(__SSE2__)
+#include <emmintrin.h>
+#define PT_WIDE_SSE 1
+#endif
+
+namespace pt {
+namespace detail {
+
+// Byte k of w as a float, exactly. On the GPU a byte permute into 2^23 + b and one subtraction
+// replace the quarter-rate integer-to-float conversion.
+PT_HDI float ByteAsFloat(uint32_t w, uint32_t k) {
+#if PT_IS_GPU_CODE
+  return __uint_as_float(__byte_perm(w, 0x4B000000u, 0x7540u | k)) - 8388608.0f;
+#else
+  return float((w >> (8u * k)) & 0xffu);
+#endif
+}
+
+// q * a + b: fused on the GPU, two roundings on the host; kWideSlack's bound covers both.
+PT_HDI float MulAdd(float q, float a, float b) {
+#if PT_IS_GPU_CODE
+  return __fmaf_rn(q, a, b);
+#else
+  return q * a + b;
+#endif
+}
+
+PT_HDI float FloatFromBits(uint32_t bits) {
+#if PT_IS_GPU_CODE
+  return __uint_as_float(bits);
+#else
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+#endif
+}
+
+// The node as 20 words, read as five 16-byte loads on the GPU.
+struct WideNodeWords {
+  uint32_t w[20];
+};
+
+PT_HDI_HOT WideNodeWords LoadWideNode(const WideBvhNode* node) {
+  WideNodeWords n;
+#if PT_IS_GPU_CODE
+  const uint4* p = reinterpret_cast<const uint4*>(node);
+  for (int i = 0; i < 5; ++i) {
+    uint4 v = __ldg(p + i);
+    n.w[4 * i] = v.x;
+    n.w[4 * i + 1] = v.y;
+    n.w[4 * i + 2] = v.z;
+    n.w[4 * i + 3] = v.w;
+  }
+#else
+  static_assert(sizeof(WideBvhNode) == sizeof(WideNodeWords), "WideBvhNode is 80 bytes");
+  std::memcpy(&n, node, sizeof n);
+#endif
+  return n;
+}
+
+// Per-ray constants of the wide box test.
+struct WideRay {
+  vec3 o, invDir;
+  uint32_t octInv;  // 7 - octant (octant bit a: the ray goes towards -a)
+  bool neg[3];
+  // Host: the words of WideNodeWords holding each axis's near and far planes (qlo at 8 + 2a,
+  // qhi at 14 + 2a; swapped where the ray goes down), read by index rather than by selects.
+  uint32_t nearWord[3], farWord[3];
+};
+
+// Error bound of the slab distances (for a box bound b = origin + q * scale, exact value
+// T = (b - o) / d), computed as t = q * adj + (A -+ E) with A = (origin - o) * invDir,
+// adj = scale * invDir (exact: scale is a power of two) and E = gamma(7) |A|. Each of the
+// roundings of 1/d, origin - o, the product, q * adj (host only) and the sum gives
+// t = (1 + theta) T + zeta with |theta| <= gamma(3) and |zeta| <= gamma(6) |A|: so moving the
+// near distances down and the far ones up by E leaves only relative error, which the far scale
+// below absorbs, as in IntersectAabb (Ize 2013). A NaN (a zero direction component, 0 * inf)
+// is ignored by the min/max and so never culls.
+constexpr float kWideSlack = Gamma(7);
+// As kAabbFarScale (whose culling argument holds here too: theta is within gamma(3)), with one
+// more rounding of headroom.
+constexpr float kWideFarScale = 1.0f + 2.0f * Gamma(6);
+
+// A hit child's mask bits: meta >> 5 at bit meta & 31, where an interior child's bit (24 +
+// slot: bits 3 and 4 set) has its slot mirrored by the ray's octant (^ octInv). Decoded for a
+// node half's four meta bytes at once, with a few word-wide operations instead of several per
+// slot (tests/bvh_wide_test.cpp checks it against the per-byte rule).
+struct SlotBits4 {
+  uint32_t bitIndex4, childBits4;
+
+  PT_HDI static SlotBits4 Decode(uint32_t meta4, uint32_t octInv) {
+    const uint32_t interior4 = meta4 & (meta4 << 1) & 0x10101010u;
+    return SlotBits4{(meta4 ^ ((interior4 >> 4) * octInv)) & 0x1f1f1f1fu,
+                     (meta4 >> 5) & 0x07070707u};
+  }
+  PT_HDI uint32_t HitBits(uint32_t k) const {
+    return ((childBits4 >> (8u * k)) & 0xffu) << ((bitIndex4 >> (8u * k)) & 0xffu);
+  }
+};
+
+#ifdef PT_WIDE_AVX2
+// x86-64-v3 hosts: the node's eight slots in one pass of 8-lane instructions, its per-node
+// constants three axes at once, and the hit slots' mask bits decoded in the vector lanes.
+// Fused multiply-adds as on the GPU (kWideSlack's bound covers both roundings).
+inline __attribute__((always_inline)) uint32_t IntersectWideChildrenAvx2(const WideBvhNode* node,
+                                                                         const WideRay& r,
+                                                                         float tMax) {
+  const char* bytes = reinterpret_cast<const char*>(node);
+  const __m128 head = _mm_load_ps(reinterpret_cast<const float*>(node));  // px py pz | e
+  const __m128 o = _mm_setr_ps(r.o.x, r.o.y, r.o.z, 0.0f);
+  const __m128 invDir = _mm_setr_ps(r.invDir.x, r.invDir.y, r.invDir.z, 0.0f);
+  const __m128i exps = _mm_cvtepu8_epi32(_mm_shuffle_epi32(_mm_castps_si128(head), 0xff));
+  const __m128 adj = _mm_mul_ps(_mm_castsi128_ps(_mm_slli_epi32(exps, 23)), invDir);
+  const __m128 a = _mm_mul_ps(_mm_sub_ps(head, o), invDir);
+  const __m128 absA = _mm_andnot_ps(_mm_set1_ps(-0.0f), a);
+  const __m128 e = _mm_mul_ps(_mm_set1_ps(kWideSlack), absA);
+  const __m128 nearD = _mm_sub_ps(a, e), farD = _mm_add_ps(a, e);
+  __m256 t0 = _mm256_setzero_ps(), t1 = _mm256_set1_ps(tMax);
+  auto quantised = [&](uint32_t word) {
+    const __m128i q = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(bytes + 4 * word));
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(q));
+  };
+  auto lane = [](__m128 v, int k) {
+    return _mm256_broadcastss_ps(_mm_permutevar_ps(v, _mm_set1_epi32(k)));
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    const __m256 adjA = lane(adj, axis);
+    t0 = _mm256_max_ps(_mm256_fmadd_ps(quantised(r.nearWord[axis]), adjA, lane(nearD, axis)), t0);
+    t1 = _mm256_min_ps(_mm256_fmadd_ps(quantised(r.farWord[axis]), adjA, lane(farD, axis)), t1);
+  }
+  const __m256 hit = _mm256_cmp_ps(t0, _mm256_mul_ps(t1, _mm256_set1_ps(kWideFarScale)),
+                                   _CMP_LE_OQ);
+  // SlotBits4's rule, one slot per lane.
+  const __m256i meta = _mm256_cvtepu8_epi32(
+      _mm_loadl_epi64(reinterpret_cast<const __m128i*>(bytes + 4 * 6)));
+  const __m256i k10 = _mm256_set1_epi32(0x10);
+  const __m256i interior = _mm256_cmpeq_epi32(
+      _mm256_and_si256(_mm256_and_si256(meta, _mm256_slli_epi32(meta, 1)), k10), k10);
+  const __m256i bitIndex = _mm256_and_si256(
+      _mm256_xor_si256(meta, _mm256_and_si256(interior, _mm256_set1_epi32(int(r.octInv)))),
+      _mm256_set1_epi32(0x1f));
+  const __m256i childBits = _mm256_and_si256(_mm256_srli_epi32(meta, 5), _mm256_set1_epi32(7));
+  const __m256i bits = _mm256_and_si256(_mm256_sllv_epi32(childBits, bitIndex),
+                                        _mm256_castps_si256(hit));
+  __m128i x = _mm_or_si128(_mm256_castsi256_si128(bits), _mm256_extracti128_si256(bits, 1));
+  x = _mm_or_si128(x, _mm_shuffle_epi32(x, 0x4e));
+  x = _mm_or_si128(x, _mm_shuffle_epi32(x, 0xb1));
+  return uint32_t(_mm_cvtsi128_si32(x));
+}
+#elif defined(PT_WIDE_SSE)
+// The host's version of the test below: four slots per SSE instruction, the same operations
+// in the same order (so the same mask). _mm_max_ps(b, a) is b > a ? b : a, which ignores a NaN
+// in b exactly as MaxIgnoreNan(a, b) does.
+inline __m128 WideBytes(uint32_t w) {
+  const __m128i zero = _mm_setzero_si128();
+  __m128i v = _mm_cvtsi32_si128(int(w));
+  v = _mm_unpacklo_epi16(_mm_unpacklo_epi8(v, zero), zero);
+  return _mm_cvtepi32_ps(v);
+}
+
+// always_inline spelled out: host-only code, so not PT_HDI_HOT (made for host-and-device code).
+inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
+    const WideNodeWords& n, const WideRay& r, float tMax, const float adj[3], const float nearD[3],
+    const float farD[3]) {
+  const __m128 tMaxV = _mm_set1_ps(tMax), scale = _mm_set1_ps(kWideFarScale);
+  uint32_t hits = 0;
+  for (int half = 0; half < 2; ++half) {
+    __m128 t0 = _mm_setzero_ps(), t1 = tMaxV;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 adjA = _mm_set1_ps(adj[a]);
+      __m128 tn = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.nearWord[a] + half]), adjA),
+                             _mm_set1_ps(nearD[a]));
+      __m128 tf = _mm_add_ps(_mm_mul_ps(WideBytes(n.w[r.farWord[a] + half]), adjA),
+                             _mm_set1_ps(farD[a]));
+      t0 = _mm_max_ps(tn, t0);
+      t1 = _mm_min_ps(tf, t1);
+    }
+    const uint32_t mask = uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, _mm_mul_ps(t1, scale))));
+    // Without branches: which slots a random ray hits is unpredictable.
+    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
+    for (uint32_t k = 0; k < 4; ++k) hits |= slots.HitBits(k) & (0u - ((mask >> k) & 1u));
+  }
+  return hits;
+}
+#endif
+
+// Bit mask of the children of `n` that the ray enters within [0, tMax]: interior children at
+// bit 24 + (slot ^ octInv), each leaf's primitives at bits [offset, offset + count).
+PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
+  const float px = FloatFromBits(n.w[0]), py = FloatFromBits(n.w[1]), pz = FloatFromBits(n.w[2]);
+  const uint32_t e = n.w[3];
+  const float adjX = FloatFromBits((e & 0xffu) << 23) * r.invDir.x;
+  const float adjY = FloatFromBits(((e >> 8) & 0xffu) << 23) * r.invDir.y;
+  const float adjZ = FloatFromBits(((e >> 16) & 0xffu) << 23) * r.invDir.z;
+  const float ax = (px - r.o.x) * r.invDir.x, ay = (py - r.o.y) * r.invDir.y,
+              az = (pz - r.o.z) * r.invDir.z;
+  const float ex = kWideSlack * fabsf(ax), ey = kWideSlack * fabsf(ay), ez = kWideSlack * fabsf(az);
+  const float nearX = ax - ex, nearY = ay - ey, nearZ = az - ez;
+  const float farX = ax + ex, farY = ay + ey, farZ = az + ez;
+#ifdef PT_WIDE_SSE
+  const float adj[3] = {adjX, adjY, adjZ}, nearD[3] = {nearX, nearY, nearZ},
+              farD[3] = {farX, farY, farZ};
+  return IntersectWideChildrenSse(n, r, tMax, adj, nearD, farD);
+#else
+  uint32_t hits = 0;
+  for (int half = 0; half < 2; ++half) {
+    // qlo words at 8 + 2 axis + half, qhi at 14 + 2 axis + half; swapped where the ray goes down.
+    uint32_t loX = n.w[8 + half], hiX = n.w[14 + half];
+    uint32_t loY = n.w[10 + half], hiY = n.w[16 + half];
+    uint32_t loZ = n.w[12 + half], hiZ = n.w[18 + half];
+    const uint32_t qnX = r.neg[0] ? hiX : loX, qfX = r.neg[0] ? loX : hiX;
+    const uint32_t qnY = r.neg[1] ? hiY : loY, qfY = r.neg[1] ? loY : hiY;
+    const uint32_t qnZ = r.neg[2] ? hiZ : loZ, qfZ = r.neg[2] ? loZ : hiZ;
+    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
+    for (uint32_t k = 0; k < 4; ++k) {
+      float t0 = MulAdd(ByteAsFloat(qnX, k), adjX, nearX);
+      t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), adjY, nearY));
+      t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnZ, k), adjZ, nearZ));
+      float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), adjX, farX));
+      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), adjY, farY));
+      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), adjZ, farZ));
+      if (t0 <= t1 * kWideFarScale) hits |= slots.HitBits(k);
+    }
+  }
+  return hits;
+#endif
+}
+
+// What the traversal needs of a visited node: the hit bits and where its children are.
+struct WideNodeHits {
+  uint32_t hits, childBase, primBase, innerMask;
+};
+
+PT_HDI_HOT WideNodeHits TestWideNode(const WideBvhNode* node, const WideRay& r, float tMax) {
+#ifdef PT_WIDE_AVX2
+  // The fields straight from memory: no copy of the node's words to index into.
+  return WideNodeHits{IntersectWideChildrenAvx2(node, r, tMax), node->childBase, node->primBase,
+                      node->innerMask};
+#else
+  const WideNodeWords n = LoadWideNode(node);
+  return WideNodeHits{IntersectWideChildren(n, r, tMax), n.w[4], n.w[5], n.w[3] >> 24};
+#endif
+}
+
+}  // namespace detail
+}  // namespace pt
