@@ -149,9 +149,10 @@ TEST(BvhWide, ClosestHitIsIndependentOfLayoutAndBuilder) {
 
 // Overlapping coplanar triangles and quads (a rug on a floor, decals): their computed hit
 // distances differ only by rounding, up to ~1e-5 before the plane's exact distance, which is
-// also their boxes' entry distance. Every tree must still return brute force's hit: a node
-// is never culled by a hit that its own shape's distance, raised to its box entry
-// (ShapeBoxEntry), could beat.
+// also their boxes' entry distance. With --tri-test box-clamped every tree must still return
+// brute force's hit: a node is never culled by a hit that its own shape's distance, raised to
+// its box entry (ShapeBoxEntry), could beat. (With the plain watertight test 6-13% of these
+// rays' hits differ from brute force's: the known exception of docs/bvh.md.)
 TEST(BvhWide, ClosestHitOnCoincidentSurfacesIsIndependentOfTheTree) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> u(-5.0f, 5.0f), u01(0.0f, 1.0f);
@@ -177,6 +178,7 @@ TEST(BvhWide, ClosestHitOnCoincidentSurfacesIsIndependentOfTheTree) {
                                         std::pair{BvhLayout::kWide, BvhBuilder::kSbvh}}) {
     SCOPED_TRACE(std::string(BvhLayoutName(layout)) + " " + BvhBuilderName(builder));
     ShapeScene scene = BuildSoup(soup, layout, builder);
+    scene.view.triangleTest = kTriTestBoxClamped;
     int hits = 0, differ = 0;
     for (const Ray& ray : rays) {
       HitRecord bvh, brute;

@@ -221,6 +221,8 @@ TEST(CliParse, LaterFeatureOptionsParse) {
   EXPECT_FALSE(Parse({"s.json", "-o", "o.png", "--specialize=off"}).specialize);
   EXPECT_EQ(Parse({"s.json", "-o", "o.png", "--tri-test", "mt"}).triangleTest,
             TriangleTest::kMollerTrumbore);
+  EXPECT_EQ(Parse({"s.json", "-o", "o.png", "--tri-test", "box-clamped"}).triangleTest,
+            TriangleTest::kBoxClamped);
 }
 
 TEST(CliParse, MalformedValuesOfChoiceOptionsAreErrors) {

@@ -87,8 +87,9 @@ TEST(GltfSceneInclude, UnknownCameraOfTheFileNamesTheFieldAndListsTheCameras) {
     } catch (const SceneError& e) {
       std::string m = e.what();
       EXPECT_EQ(m.rfind("include.json: " + field, 0), 0u) << m;
-      if (camera.find("model.gltf") != std::string::npos)
+      if (camera.find("model.gltf") != std::string::npos) {
         EXPECT_NE(m.find("0 \"Front\""), std::string::npos) << m;
+      }
     }
   }
 }

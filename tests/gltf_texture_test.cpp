@@ -87,14 +87,6 @@ SceneDesc LoadMeshes(const std::string& dir, const std::string& objects) {
   return LoadSceneFromString(text, "textures.json", dir);
 }
 
-std::string WarningsNaming(const SceneDesc& s, const std::string& text) {
-  std::string all;
-  for (const std::string& w : s.warnings) {
-    if (w.find(text) != std::string::npos) all += w + "\n";
-  }
-  return all;
-}
-
 void ExpectUv(vec2 got, vec2 want) {
   EXPECT_NEAR(got.x, want.x, 1e-7f);
   EXPECT_NEAR(got.y, want.y, 1e-7f);

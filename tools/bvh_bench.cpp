@@ -3,6 +3,7 @@
 //
 //   bvh_bench SCENE.json [--threads N] [--rays N] [--repeats N] [--bvh binary|wide|all]
 //             [--bvh-build sah|sbvh|all] [--rays-kind inside|outside] [--check]
+//             [--tri-test watertight|box-clamped]
 //
 // Rays (fixed seed, the same for every layout): "inside" start uniformly in the scene's bounding
 // box with uniform directions (incoherent secondary rays); "outside" start on the bounding
@@ -34,6 +35,7 @@ struct Args {
   std::vector<BvhBuilder> builders = {BvhBuilder::kSah};
   bool inside = true;
   bool check = false;  // compare layouts and builders ray by ray instead of timing
+  uint32_t triangleTest = kTriTestWatertight;  // as the renderer's --tri-test
 };
 
 double Seconds() {
@@ -139,12 +141,14 @@ void RunOne(const Args& args, const SceneDesc& desc, BvhBuilder builder, BvhLayo
     buildMs.push_back(scene.bvhBuildMs);
   }
   SceneView view = HostSceneView(scene);
+  view.triangleTest = args.triangleTest;
   std::vector<Ray> rays = MakeRays(scene, args.rays, args.inside);
   std::vector<double> closest, any, closestCpu, anyCpu;
   double cpuRate = 0.0;
   uint64_t hitsClosest = 0, hitsAny = 0;
   TraversalCounters work;
-  const Queries q{view, (AnalyzeEffects(scene) & (kEffectAlpha | kEffectBackfaceCulling)) != 0};
+  const Queries q{view, (AnalyzeEffects(scene) & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
+                            args.triangleTest == kTriTestBoxClamped};
   for (const Ray& r : std::vector<Ray>(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 100000))) {
     HitRecord hit;
     q.Closest(r, &hit, &work);
@@ -180,6 +184,7 @@ int CheckLayouts(const Args& args, const SceneDesc& desc) {
   refOptions.threads = args.threads;
   Scene ref = BuildScene(desc, refOptions);
   SceneView refView = HostSceneView(ref);
+  refView.triangleTest = args.triangleTest;
   std::vector<Ray> rays = MakeRays(ref, args.rays, args.inside);
   int bad = 0;
   for (BvhBuilder b : args.builders) {
@@ -189,6 +194,7 @@ int CheckLayouts(const Args& args, const SceneDesc& desc) {
       options.layout = l;
       Scene other = BuildScene(desc, options);
       SceneView view = HostSceneView(other);
+      view.triangleTest = args.triangleTest;
       size_t mismatches = 0;
       for (size_t i = 0; i < rays.size(); ++i) {
         HitRecord h0, h1;
@@ -250,6 +256,11 @@ int main(int argc, char** argv) {
     else if (a == "--repeats") args.repeats = std::stoi(next());
     else if (a == "--rays-kind") args.inside = next() == "inside";
     else if (a == "--check") args.check = true;
+    else if (a == "--tri-test") {
+      const std::string v = next();
+      if (v != "watertight" && v != "box-clamped") args.layouts.clear();  // usage below
+      args.triangleTest = v == "box-clamped" ? kTriTestBoxClamped : kTriTestWatertight;
+    }
     else if (a == "--bvh") {
       std::string v = next();
       args.layouts.clear();
@@ -266,7 +277,7 @@ int main(int argc, char** argv) {
   if (args.scene.empty() || args.layouts.empty() || args.builders.empty() || args.threads < 1) {
     std::fprintf(stderr, "usage: bvh_bench SCENE.json [--threads N] [--rays N] [--repeats N] "
                          "[--bvh binary|wide|all] [--bvh-build sah|sbvh|all] [--rays-kind inside|outside] "
-                         "[--check]\n");
+                         "[--check] [--tri-test watertight|box-clamped]\n");
     return 1;
   }
   SceneDesc desc = LoadScene(args.scene);

@@ -256,7 +256,9 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
       {"--tri-test",
        [](CliOptions& o, ValueSource& s) {
          o.triangleTest = ParseChoice<TriangleTest>(
-             s, {{"watertight", TriangleTest::kWatertight}, {"mt", TriangleTest::kMollerTrumbore}});
+             s, {{"watertight", TriangleTest::kWatertight},
+                 {"box-clamped", TriangleTest::kBoxClamped},
+                 {"mt", TriangleTest::kMollerTrumbore}});
        }},
       {"--film",
        [](CliOptions& o, ValueSource& s) {

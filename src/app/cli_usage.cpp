@@ -61,7 +61,9 @@ Backend and performance
   --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --film float|double      film accumulation precision (default float)
-  --tri-test watertight|mt triangle test (default watertight)
+  --tri-test watertight|box-clamped|mt
+                           triangle test; box-clamped: watertight, and the closest of
+                           coincident surfaces never depends on the BVH (default watertight)
   --ray-offset robust|EPS  ray origin offsets from error bounds, or a fixed epsilon
 
 Long renders

@@ -37,6 +37,11 @@ const char* IntegratorName(IntegratorMode m) {
   return m == IntegratorMode::kBsdf ? "bsdf" : m == IntegratorMode::kNee ? "nee" : "mis";
 }
 
+const char* TriangleTestName(TriangleTest t) {
+  if (t == TriangleTest::kMollerTrumbore) return "mt";
+  return t == TriangleTest::kBoxClamped ? "box-clamped" : "watertight";
+}
+
 const char* LightPathsName(LightPaths l) {
   return l == LightPaths::kDirect ? "direct" : l == LightPaths::kIndirect ? "indirect" : "all";
 }
@@ -97,7 +102,7 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"clamp", options.clampLuminance > 0.0f ? Json(options.clampLuminance) : Json("off")},
       {"ray_offset", options.rayOffsetEpsilon > 0.0f ? Json(options.rayOffsetEpsilon)
                                                      : Json("robust")},
-      {"tri_test", options.triangleTest == TriangleTest::kMollerTrumbore ? "mt" : "watertight"},
+      {"tri_test", TriangleTestName(options.triangleTest)},
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},

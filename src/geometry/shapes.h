@@ -41,10 +41,6 @@ PT_HDI float MaxAbs(float a, float b, float c) {
   return MaxIgnoreNan(MaxIgnoreNan(fabsf(a), fabsf(b)), fabsf(c));
 }
 
-// As the triangle's box has them (TriangleBounds: a NaN coordinate is ignored).
-PT_HDI float Min3(float a, float b, float c) { return MinIgnoreNan(MinIgnoreNan(a, b), c); }
-PT_HDI float Max3(float a, float b, float c) { return MaxIgnoreNan(MaxIgnoreNan(a, b), c); }
-
 // Per axis |a_y b_z| + |a_z b_y| etc.: bounds |cross(a, b)| including its rounding.
 PT_HDI vec3 AbsCross(vec3 a, vec3 b) {
   return vec3(fabsf(a.y * b.z) + fabsf(a.z * b.y), fabsf(a.z * b.x) + fabsf(a.x * b.z),
@@ -53,39 +49,12 @@ PT_HDI vec3 AbsCross(vec3 a, vec3 b) {
 
 }  // namespace detail
 
-// ---- Bounds (conservative: rounding of computed corners is padded outwards) ----
-
-PT_HDI Aabb TriangleBounds(const Triangle& tri) {
-  Aabb b = Aabb::FromPoints(tri.p0, tri.p1);
-  b.Extend(tri.p2);
-  return b;
-}
-
-PT_HDI Aabb QuadBounds(const Quad& q) {
-  Aabb b = Aabb::FromPoints(q.origin, q.origin + q.u);
-  b.Extend(q.origin + q.v);
-  b.Extend(q.origin + q.u + q.v);
-  vec3 pad = Gamma(3) * (Abs(q.origin) + Abs(q.u) + Abs(q.v));
-  b.lo -= pad;
-  b.hi += pad;
-  return b;
-}
-
-PT_HDI Aabb SphereBounds(const Sphere& sph) {
-  vec3 r = vec3(fabsf(sph.radius));
-  vec3 pad = Gamma(2) * (Abs(sph.center) + r);
-  Aabb b;
-  b.lo = sph.center - r - pad;
-  b.hi = sph.center + r + pad;
-  return b;
-}
-
 // Per-ray constants of the watertight triangle test (Woop, Benthin, Wald 2013): the dominant
 // axis of d becomes z, and a shear maps d onto +z. Traversal computes it once per ray.
 struct TriangleRayData {
   int kx, ky, kz;
   float sx, sy, sz;
-  vec3 invDir;  // for the hit's box entry (ShapeBoxEntry)
+  vec3 invDir;  // for RaiseToBoxEntry (the traversals' own 1 / d: no registers of its own)
 
   PT_HDI_HOT static TriangleRayData Make(vec3 d) {
     TriangleRayData r;
@@ -155,14 +124,6 @@ PT_HDI_HOT bool IntersectTriangle(const Triangle& tri, const Ray& ray, const Tri
   float maxE = detail::MaxAbs(e0, e1, e2);
   float deltaT = 3.0f * (Gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) * fabsf(invDet);
   if (t <= deltaT) return false;
-  // Never a hit before its box's entry (see ShapeBoxEntry): the box's near corner per axis.
-  const vec3 lo = glm::min(glm::min(tri.p0, tri.p1), tri.p2);
-  const vec3 hi = glm::max(glm::max(tri.p0, tri.p1), tri.p2);
-  const vec3 nearCorner(rd.invDir.x < 0.0f ? hi.x : lo.x, rd.invDir.y < 0.0f ? hi.y : lo.y,
-                        rd.invDir.z < 0.0f ? hi.z : lo.z);
-  const float entry = ShapeBoxEntry(nearCorner, ray.o, rd.invDir);
-  if (entry > t) t = entry;
-  if (!(t < tMax)) return false;
 
   *tHit = t;
   *bary = vec2(e1 * invDet, e2 * invDet);
@@ -193,10 +154,6 @@ PT_HDI bool IntersectQuad(const Quad& q, const Ray& ray, float tMax, float* tHit
   float s = glm::dot(n, glm::cross(rel, q.v)) * invNn;
   float tt = glm::dot(n, glm::cross(q.u, rel)) * invNn;
   if (!(s >= 0.0f && s <= 1.0f && tt >= 0.0f && tt <= 1.0f)) return false;
-  const Aabb box = QuadBounds(q);  // never a hit before its box: see ShapeBoxEntry
-  const float entry = ShapeBoxEntry(box.lo, box.hi, ray.o, ray.d);
-  if (entry > t) t = entry;
-  if (!(t < tMax)) return false;
   *tHit = t;
   *st = vec2(s, tt);
   return true;
@@ -223,12 +180,51 @@ PT_HDI bool IntersectSphere(const Sphere& sph, const Ray& ray, float tMax, float
   float tNear = tA < tB ? tA : tB, tFar = tA < tB ? tB : tA;
   float t = tNear > 0.0f ? tNear : tFar;
   if (!(t > 0.0f && t < tMax)) return false;
-  const Aabb box = SphereBounds(sph);  // never a hit before its box: see ShapeBoxEntry
-  const float entry = ShapeBoxEntry(box.lo, box.hi, ray.o, ray.d);
-  if (entry > t) t = entry;
-  if (!(t < tMax)) return false;
   *tHit = t;
   return true;
+}
+
+// ---- Bounds (conservative: rounding of computed corners is padded outwards) ----
+
+PT_HDI Aabb TriangleBounds(const Triangle& tri) {
+  Aabb b = Aabb::FromPoints(tri.p0, tri.p1);
+  b.Extend(tri.p2);
+  return b;
+}
+
+PT_HDI Aabb QuadBounds(const Quad& q) {
+  Aabb b = Aabb::FromPoints(q.origin, q.origin + q.u);
+  b.Extend(q.origin + q.v);
+  b.Extend(q.origin + q.u + q.v);
+  vec3 pad = Gamma(3) * (Abs(q.origin) + Abs(q.u) + Abs(q.v));
+  b.lo -= pad;
+  b.hi += pad;
+  return b;
+}
+
+PT_HDI Aabb SphereBounds(const Sphere& sph) {
+  vec3 r = vec3(fabsf(sph.radius));
+  vec3 pad = Gamma(2) * (Abs(sph.center) + r);
+  Aabb b;
+  b.lo = sph.center - r - pad;
+  b.hi = sph.center + r + pad;
+  return b;
+}
+
+PT_HDI Aabb PrimBounds(const Triangle& tri) { return TriangleBounds(tri); }
+PT_HDI Aabb PrimBounds(const Quad& q) { return QuadBounds(q); }
+PT_HDI Aabb PrimBounds(const Sphere& sph) { return SphereBounds(sph); }
+
+PT_HDI Aabb PrimBounds(const SceneView& s, uint32_t primIndex) {
+  PrimRef ref = s.prims[primIndex];
+  switch (ref.Type()) {
+    case ShapeType::kTriangle:
+      return PrimBounds(s.triangles[ref.Index()]);
+    case ShapeType::kQuad:
+      return PrimBounds(s.quads[ref.Index()]);
+    default:
+      return PrimBounds(s.spheres[ref.Index()]);
+  }
 }
 
 // ---- Dispatch over PrimRef ----
@@ -238,7 +234,7 @@ PT_HDI bool IntersectShape(const SceneView& s, PrimRef ref, const Ray& ray,
                            const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
   switch (ref.Type()) {
     case ShapeType::kTriangle:
-      if (s.triangleTest != 0)  // --tri-test mt, for the robustness study only
+      if (s.triangleTest == kTriTestMollerTrumbore)  // --tri-test mt, for the robustness study
         return IntersectTriangleMollerTrumbore(s.triangles[ref.Index()], ray, tMax, tHit, uv);
       return IntersectTriangle(s.triangles[ref.Index()], ray, rd, tMax, tHit, uv);
     case ShapeType::kQuad:
@@ -251,17 +247,66 @@ PT_HDI bool IntersectShape(const SceneView& s, PrimRef ref, const Ray& ray,
   }
 }
 
+namespace detail {
+
+#if PT_IS_GPU_CODE
+// A float loaded again by a volatile load, which the compiler cannot merge with an earlier
+// load of it: so the registers of the shape test's own loads are not held until the raise.
+PT_HDI float Reload(const float* p) {
+  float v;
+  asm volatile("ld.global.nc.f32 %0, [%1];" : "=f"(v) : "l"(p));
+  return v;
+}
+#else
+PT_HDI float Reload(const float* p) { return *p; }
+#endif
+
+// The corner of primitive i's box (as the BVH has it: PrimBounds) on the ray's near side,
+// from the scene arrays read again.
+PT_HDI vec3 NearCornerOfPrim(const SceneView& s, uint32_t i, vec3 invDir) {
+  vec3 lo, hi;
+  // The packed copy (in BVH order) when it holds a triangle, as IntersectPrimUnraised reads it.
+  if (s.packedTriangles != nullptr && ShapeType(s.packedTriangles[i].tag >> 30) == ShapeType::kTriangle) {
+    const float* p = &s.packedTriangles[i].p0.x;
+    for (int a = 0; a < 3; ++a) {
+      const float c0 = Reload(p + a), c1 = Reload(p + 4 + a), c2 = Reload(p + 8 + a);
+      lo[a] = MinIgnoreNan(MinIgnoreNan(c0, c1), c2);
+      hi[a] = MaxIgnoreNan(MaxIgnoreNan(c0, c1), c2);
+    }
+  } else {
+    const Aabb box = PrimBounds(s, i);
+    lo = box.lo;
+    hi = box.hi;
+  }
+  return vec3(invDir.x < 0.0f ? hi.x : lo.x, invDir.y < 0.0f ? hi.y : lo.y,
+              invDir.z < 0.0f ? hi.z : lo.z);
+}
+
+// A hit's distance raised to its primitive's box's computed entry (ShapeBoxEntry); false when
+// that leaves it at or past tMax. Done here, once a shape test has hit, with the primitive read
+// again, rather than inside the tests: keeping their inputs live for it cost the GPU's traversal
+// kernels 6-14 registers and 12-21% of their speed (reading them again: 8-15%).
+PT_HDI bool RaiseToBoxEntry(const SceneView& s, uint32_t i, const Ray& ray,
+                            const TriangleRayData& rd, float tMax, float* tHit) {
+  const float entry = ShapeBoxEntry(NearCornerOfPrim(s, i, rd.invDir), ray.o, rd.invDir);
+  if (!(entry > *tHit)) return true;
+  *tHit = entry;
+  return entry < tMax;
+}
+
+}  // namespace detail
+
 // Every traversal's primitive test: the shape, then, for primitives flagged kHitTestBit only,
 // the material's verdict on the hit (alpha, back-face culling; src/materials/alpha.h). On a
 // rejected hit *tHit and *uv may hold the rejected values; the caller must not use them.
 // kHitTest false compiles the verdict out (a scene none of whose materials asks for one): the
 // test's texture code would otherwise cost every traversal kernel registers.
 template <bool kHitTest = true>
-PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
-                          const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
+PT_HDI bool IntersectPrimUnraised(const SceneView& s, uint32_t primIndex, const Ray& ray,
+                                  const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
   // Triangles come from the packed copy in BVH order (three 16-byte loads, no PrimRef first);
   // its tag is the PrimRef's, so the hit-test bit is known without another load.
-  if (s.packedTriangles != nullptr && s.triangleTest == 0) {
+  if (s.packedTriangles != nullptr && s.triangleTest != kTriTestMollerTrumbore) {
 #if PT_IS_GPU_CODE
     const float4* q = reinterpret_cast<const float4*>(s.packedTriangles + primIndex);
     const float4 a = __ldg(q);
@@ -287,6 +332,22 @@ PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray
   if (!IntersectShape(s, ref, ray, rd, tMax, tHit, uv)) return false;
   if constexpr (!kHitTest) return true;
   else return !ref.NeedsHitTest() || AcceptHit(s, ref, ray, *uv);
+}
+
+// The primitive test every traversal and brute force use. With --tri-test box-clamped a hit is
+// never before its primitive's box (ShapeBoxEntry), so no tree's culling can change which of
+// coincident surfaces is closest. That costs the GPU 8-15% on large scenes, so it is a choice,
+// compiled into the kHitTest variants only (the renderer runs those for it): the others keep
+// their registers.
+template <bool kHitTest = true>
+PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray,
+                          const TriangleRayData& rd, float tMax, float* tHit, vec2* uv) {
+  if (!IntersectPrimUnraised<kHitTest>(s, primIndex, ray, rd, tMax, tHit, uv)) return false;
+  if constexpr (kHitTest) {
+    if (s.triangleTest == kTriTestBoxClamped)
+      return detail::RaiseToBoxEntry(s, primIndex, ray, rd, tMax, tHit);
+  }
+  return true;
 }
 
 PT_HDI bool IntersectPrim(const SceneView& s, uint32_t primIndex, const Ray& ray, float tMax,
@@ -380,22 +441,6 @@ PT_HDI SurfaceInteraction MakeInteraction(const SceneView& s, const Ray& ray,
   si.light = InstanceLight(inst, si.light, s.prims[hit.prim].Index());
   InstanceToWorld(inst, &si);
   return si;
-}
-
-PT_HDI Aabb PrimBounds(const Triangle& tri) { return TriangleBounds(tri); }
-PT_HDI Aabb PrimBounds(const Quad& q) { return QuadBounds(q); }
-PT_HDI Aabb PrimBounds(const Sphere& sph) { return SphereBounds(sph); }
-
-PT_HDI Aabb PrimBounds(const SceneView& s, uint32_t primIndex) {
-  PrimRef ref = s.prims[primIndex];
-  switch (ref.Type()) {
-    case ShapeType::kTriangle:
-      return PrimBounds(s.triangles[ref.Index()]);
-    case ShapeType::kQuad:
-      return PrimBounds(s.quads[ref.Index()]);
-    default:
-      return PrimBounds(s.spheres[ref.Index()]);
-  }
 }
 
 }  // namespace pt

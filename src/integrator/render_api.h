@@ -24,7 +24,9 @@ enum class SortMode { kAuto, kOff, kMaterial, kQueues };
 enum class SortMethod { kAuto, kCounting, kRadix, kRadixFullWidth };
 enum class IntegratorMode { kMis, kBsdf, kNee };
 enum class LightPaths { kAll, kDirect, kIndirect };
-enum class TriangleTest { kWatertight, kMollerTrumbore };
+// The values are SceneView::triangleTest's (shapes.h): kBoxClamped is the watertight test with
+// each hit's distance raised to its primitive's box entry (ShapeBoxEntry).
+enum class TriangleTest { kWatertight, kMollerTrumbore, kBoxClamped };
 enum class EnvSampling { kImportance, kUniform };
 
 struct CropWindow {

@@ -47,10 +47,14 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   uint32_t effects = AnalyzeEffects(scene_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
-  hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0;
+  // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
+  hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
+              options_.triangleTest == TriangleTest::kBoxClamped;
   stats_.specialization = FeatureClassName(featureClass_);
   ApplySortOptions();
-  sceneBuffers_.view.triangleTest = options_.triangleTest == TriangleTest::kMollerTrumbore;
+  static_assert(uint32_t(TriangleTest::kMollerTrumbore) == kTriTestMollerTrumbore &&
+                uint32_t(TriangleTest::kBoxClamped) == kTriTestBoxClamped);
+  sceneBuffers_.view.triangleTest = uint32_t(options_.triangleTest);
   sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
 }
 

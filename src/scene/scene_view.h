@@ -44,6 +44,11 @@ namespace pt {
   X(float, envRowCdf, s.envRowCdf) /* height + 1 entries over rows */                       \
   X(float, envColumnCdf, s.envColumnCdf) /* width + 1 entries per row */
 
+// SceneView::triangleTest (--tri-test; TriangleTest's values): the watertight test (Woop et
+// al.), Moller-Trumbore (a robustness study), or the watertight test with each hit's distance
+// raised to its primitive's box entry (shapes.h: the closest hit never depends on the tree).
+constexpr uint32_t kTriTestWatertight = 0, kTriTestMollerTrumbore = 1, kTriTestBoxClamped = 2;
+
 struct SceneView {
 #define PT_SCENE_VIEW_FIELD(Type, name, host) const Type* name = nullptr;
   PT_SCENE_ARRAYS(PT_SCENE_VIEW_FIELD)
@@ -54,7 +59,7 @@ struct SceneView {
   uint32_t tlasNodeCount = 0;  // top-level nodes of the layout in use
   uint32_t primCount = 0;
   BvhLayout bvhLayout = BvhLayout::kBinary;
-  uint32_t triangleTest = 0;  // 0: watertight (Woop et al.); 1: Moller-Trumbore (a study)
+  uint32_t triangleTest = kTriTestWatertight;  // one of the kTriTest values above
   uint32_t materialCount = 0;
   uint32_t lightCount = 0;
   int32_t backgroundLight = -1;     // index of the background in lights, or -1 when black
