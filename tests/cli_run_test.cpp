@@ -70,6 +70,25 @@ TEST_F(CliRun, HelpAndVersionExitZero) {
   EXPECT_EQ(out, std::string("pathtracer ") + PT_VERSION + "\n");
 }
 
+// A build for x86-64-v3 started on a CPU without it exits 3 with a message instead of dying of
+// SIGILL (src/core/host_isa_guard.cpp; the variable stands in for the older CPU). A baseline
+// build has no such check and runs.
+TEST_F(CliRun, AnX8664V3BuildOnAnOlderCpuExitsThreeSayingWhy) {
+  std::string out;
+  const std::string args = scene_ + " -o " + dir_ + "/out.png --backend cpu";
+#ifdef PT_HOST_ISA_V3
+  EXPECT_EQ(RunPathtracer("--version", &out), 0) << out;
+  EXPECT_EQ(test::RunCommand("PT_TEST_PRETEND_OLD_CPU=1 " + test::BinaryPath("pathtracer") + " " + args, &out),
+            3);
+  EXPECT_NE(out.find("needs an x86-64-v3 CPU"), std::string::npos) << out;
+  EXPECT_NE(out.find("-DPT_HOST_ISA=baseline"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
+#else
+  EXPECT_EQ(test::RunCommand("PT_TEST_PRETEND_OLD_CPU=1 " + test::BinaryPath("pathtracer") + " " + args, &out),
+            0) << out;
+#endif
+}
+
 TEST_F(CliRun, BadCommandLineExitsOne) {
   std::string out;
   std::string o = " -o " + dir_ + "/out.png";
