@@ -266,7 +266,8 @@ PT_HDI float Reload(const float* p) { return *p; }
 PT_HDI vec3 NearCornerOfPrim(const SceneView& s, uint32_t i, vec3 invDir) {
   vec3 lo, hi;
   // The packed copy (in BVH order) when it holds a triangle, as IntersectPrimUnraised reads it.
-  if (s.packedTriangles != nullptr && ShapeType(s.packedTriangles[i].tag >> 30) == ShapeType::kTriangle) {
+  if (s.packedTriangles != nullptr &&
+      ShapeType(s.packedTriangles[i].tag >> 30) == ShapeType::kTriangle) {
     const float* p = &s.packedTriangles[i].p0.x;
     for (int a = 0; a < 3; ++a) {
       const float c0 = Reload(p + a), c1 = Reload(p + 4 + a), c2 = Reload(p + 8 + a);
@@ -284,8 +285,8 @@ PT_HDI vec3 NearCornerOfPrim(const SceneView& s, uint32_t i, vec3 invDir) {
 
 // A hit's distance raised to its primitive's box's computed entry (ShapeBoxEntry); false when
 // that leaves it at or past tMax. Done here, once a shape test has hit, with the primitive read
-// again, rather than inside the tests: keeping their inputs live for it cost the GPU's traversal
-// kernels 6-14 registers and 12-21% of their speed (reading them again: 8-15%).
+// again, rather than inside the tests: keeping their inputs live for it cost the GPU's
+// traversal kernels 6-14 registers (benchmarks/RESULTS.md, fourth session of 2026-11-25).
 PT_HDI bool RaiseToBoxEntry(const SceneView& s, uint32_t i, const Ray& ray,
                             const TriangleRayData& rd, float tMax, float* tHit) {
   const float entry = ShapeBoxEntry(NearCornerOfPrim(s, i, rd.invDir), ray.o, rd.invDir);
@@ -336,7 +337,7 @@ PT_HDI bool IntersectPrimUnraised(const SceneView& s, uint32_t primIndex, const 
 
 // The primitive test every traversal and brute force use. With --tri-test box-clamped a hit is
 // never before its primitive's box (ShapeBoxEntry), so no tree's culling can change which of
-// coincident surfaces is closest. That costs the GPU 8-15% on large scenes, so it is a choice,
+// coincident surfaces is closest. That costs the GPU 7-29% of render time, so it is a choice,
 // compiled into the kHitTest variants only (the renderer runs those for it): the others keep
 // their registers.
 template <bool kHitTest = true>
