@@ -14,7 +14,8 @@ struct FlagChoice {
 FlagChoice ChooseFlags(const RenderOptions& options);
 
 // --ray-order: whether each bounce's rays are sorted before intersect (stages/ray_order.h).
-// lockstep: the backend runs neighbouring paths together (GPU warps); prims: the scene's count.
+// lockstep: the backend runs neighbouring paths together (GPU warps); prims: the scene's count
+// (of placed primitives, for a scene with instances).
 bool ChooseRayOrder(Toggle asked, bool lockstep, size_t prims);
 
 }  // namespace pt

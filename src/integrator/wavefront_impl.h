@@ -41,7 +41,9 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
-  rayOrder_ = ChooseRayOrder(options_.rayOrder, Backend::kLockstepLanes, scene_.prims.size());
+  // Placed primitives: a field of 10^4 instanced bunnies (69k stored triangles) gains too.
+  rayOrder_ = ChooseRayOrder(options_.rayOrder, Backend::kLockstepLanes,
+                             std::max<uint64_t>(scene_.prims.size(), scene_.PlacedTriangleCount()));
   stats_.rayOrderUsed = rayOrder_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
