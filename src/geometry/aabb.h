@@ -86,25 +86,18 @@ PT_HDI Aabb Union(const Aabb& a, vec3 p) {
 // which the ray enters the shape's own box (6e-6 relative on coplanar triangles of the
 // Breakfast Room). A node box holding that box may then already be culled by another hit at
 // about the same distance, and which of two coincident surfaces wins would depend on the
-// tree. So the shape tests (shapes.h) raise a hit's distance to at least this computed entry
-// distance of the shape's box, from its corner on the ray's near side: each slab distance
-// (b - o) * (1 / d) is within gamma(3) (relative) of exact, as the node tests' entry
-// distances are, and the far scales below cover both (see kAabbFarScale). A NaN slab distance
-// (0 * inf: the ray runs in a slab plane) is ignored, and +inf (it runs beside the box) gives 0:
-// no raise. Exact cases stay exact (a ray along -z from the origin meets z = -2 at t = 2).
+// tree. So --tri-test box-clamped (shapes.h) raises a hit's distance to at least this
+// computed entry distance of the shape's box, from its corner on the ray's near side: each
+// slab distance (b - o) * (1 / d) is within gamma(3) (relative) of exact, as the node tests'
+// entry distances are, and the far scales below cover both (see kAabbFarScale). A NaN slab
+// distance (0 * inf: the ray runs in a slab plane) is ignored, and +inf (it runs beside the
+// box) gives 0: no raise. Exact cases stay exact (a ray along -z from the origin meets z = -2
+// at t = 2).
 PT_HDI float ShapeBoxEntry(vec3 nearCorner, vec3 o, vec3 invDir) {
   const vec3 s = (nearCorner - o) * invDir;
   const float t =
       detail::MaxIgnoreNan(detail::MaxIgnoreNan(detail::MaxIgnoreNan(0.0f, s.x), s.y), s.z);
   return t < kInfinity ? t : 0.0f;
-}
-
-// The same for the box [lo, hi] (its near corner picked by the sign of 1 / d, as IntersectAabb).
-PT_HDI float ShapeBoxEntry(vec3 lo, vec3 hi, vec3 o, vec3 d) {
-  const vec3 invDir(1.0f / d.x, 1.0f / d.y, 1.0f / d.z);
-  const vec3 nearCorner(invDir.x < 0.0f ? hi.x : lo.x, invDir.y < 0.0f ? hi.y : lo.y,
-                        invDir.z < 0.0f ? hi.z : lo.z);
-  return ShapeBoxEntry(nearCorner, o, invDir);
 }
 
 // Scale of a box test's far distance (and tMax with it). Ize 2013 ("Robust BVH Ray

@@ -264,23 +264,23 @@ PT_HDI float Reload(const float* p) { return *p; }
 // The corner of primitive i's box (as the BVH has it: PrimBounds) on the ray's near side,
 // from the scene arrays read again.
 PT_HDI vec3 NearCornerOfPrim(const SceneView& s, uint32_t i, vec3 invDir) {
-  vec3 lo, hi;
   // The packed copy (in BVH order) when it holds a triangle, as IntersectPrimUnraised reads it.
+  Aabb box;
   if (s.packedTriangles != nullptr &&
       ShapeType(s.packedTriangles[i].tag >> 30) == ShapeType::kTriangle) {
     const float* p = &s.packedTriangles[i].p0.x;
+    Triangle tri;
     for (int a = 0; a < 3; ++a) {
-      const float c0 = Reload(p + a), c1 = Reload(p + 4 + a), c2 = Reload(p + 8 + a);
-      lo[a] = MinIgnoreNan(MinIgnoreNan(c0, c1), c2);
-      hi[a] = MaxIgnoreNan(MaxIgnoreNan(c0, c1), c2);
+      tri.p0[a] = Reload(p + a);
+      tri.p1[a] = Reload(p + 4 + a);
+      tri.p2[a] = Reload(p + 8 + a);
     }
+    box = TriangleBounds(tri);
   } else {
-    const Aabb box = PrimBounds(s, i);
-    lo = box.lo;
-    hi = box.hi;
+    box = PrimBounds(s, i);
   }
-  return vec3(invDir.x < 0.0f ? hi.x : lo.x, invDir.y < 0.0f ? hi.y : lo.y,
-              invDir.z < 0.0f ? hi.z : lo.z);
+  return vec3(invDir.x < 0.0f ? box.hi.x : box.lo.x, invDir.y < 0.0f ? box.hi.y : box.lo.y,
+              invDir.z < 0.0f ? box.hi.z : box.lo.z);
 }
 
 // A hit's distance raised to its primitive's box's computed entry (ShapeBoxEntry); false when

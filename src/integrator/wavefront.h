@@ -375,7 +375,9 @@ class WavefrontIntegrator {
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
   bool envMap_ = false;  // the scene has an environment map
-  bool hitTests_ = true;  // some material asks for a hit test (alpha, back-face culling)
+  // The hit-test traversal variants: some material asks for a hit test (alpha, back-face
+  // culling), or --tri-test box-clamped (whose raise only they compile).
+  bool hitTests_ = true;
   bool stopped_ = false;
   Buffer<Counter> counters_;
 
