@@ -20,6 +20,31 @@ struct DeviceMemoryTracker {
   static void Remove(size_t bytes) { current -= bytes; }
 };
 
+// The calling thread's stream for copies and fills on the current device. Never the legacy
+// default stream: a synchronous cudaMemcpy there held another thread's kernels on its own
+// non-blocking stream back for the whole copy (400 short kernels: 24.5 ms alone, 1,996 ms
+// beside back-to-back film downloads, 26 ms beside the same downloads on a stream of their
+// own; benchmarks/results/film_save_2026-11-25), and two render lanes share a GPU under MPI.
+// Each copy is waited for before the call returns, so the backend's kernels, on their own
+// stream, always see the data.
+inline cudaStream_t ThreadCopyStream() {
+  struct Streams {
+    std::vector<std::pair<int, cudaStream_t>> byDevice;
+    ~Streams() {
+      for (auto& [device, stream] : byDevice) cudaStreamDestroy(stream);
+    }
+  };
+  thread_local Streams streams;
+  int device = 0;
+  CudaCheck(cudaGetDevice(&device), "cudaGetDevice");
+  for (auto& [d, stream] : streams.byDevice)
+    if (d == device) return stream;
+  cudaStream_t stream = nullptr;
+  CudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  streams.byDevice.emplace_back(device, stream);
+  return stream;
+}
+
 template <typename T>
 class DeviceBuffer {
  public:
@@ -42,17 +67,24 @@ class DeviceBuffer {
   void UploadBytes(const void* src, size_t bytes) {
     Resize((bytes + sizeof(T) - 1) / sizeof(T));
     if (!bytes) return;
-    CudaCheck(cudaMemcpy(data_, src, bytes, cudaMemcpyHostToDevice), "upload");
-    FinishLegacyStream();
+    cudaStream_t copy = ThreadCopyStream();
+    CudaCheck(cudaMemcpyAsync(data_, src, bytes, cudaMemcpyHostToDevice, copy), "upload");
+    CudaCheck(cudaStreamSynchronize(copy), "upload");
   }
+  // Into dst's own memory when it has the size already (no fresh pages to fault in).
   void Download(std::vector<T>& dst) const {
     dst.resize(size_);
-    if (size_) CudaCheck(cudaMemcpy(dst.data(), data_, Bytes(), cudaMemcpyDeviceToHost), "download");
+    if (!size_) return;
+    cudaStream_t copy = ThreadCopyStream();
+    CudaCheck(cudaMemcpyAsync(dst.data(), data_, Bytes(), cudaMemcpyDeviceToHost, copy),
+              "download");
+    CudaCheck(cudaStreamSynchronize(copy), "download");
   }
   void Zero() {
     if (!size_) return;
-    CudaCheck(cudaMemset(data_, 0, Bytes()), "cudaMemset");
-    FinishLegacyStream();
+    cudaStream_t copy = ThreadCopyStream();
+    CudaCheck(cudaMemsetAsync(data_, 0, Bytes(), copy), "cudaMemset");
+    CudaCheck(cudaStreamSynchronize(copy), "cudaMemset");
   }
   T* Data() { return data_; }
   const T* Data() const { return data_; }
@@ -60,13 +92,6 @@ class DeviceBuffer {
   size_t Bytes() const { return size_ * sizeof(T); }
 
  private:
-  // A pageable upload and a memset may still be in flight on the legacy default stream when
-  // they return, and the backend's kernels run on a non-blocking stream that does not wait
-  // for it: finish them here, so that kernels always see the data (two render lanes share a
-  // GPU under MPI, so a device-wide synchronise would stall the other lane).
-  static void FinishLegacyStream() {
-    CudaCheck(cudaStreamSynchronize(cudaStreamLegacy), "cudaStreamSynchronize");
-  }
   void Free() {
     if (data_) {
       cudaFree(data_);

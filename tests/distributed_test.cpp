@@ -96,16 +96,6 @@ TEST(FilmMerge, EqualsOneWelfordPassOverBothSampleSets) {
   }
 }
 
-bool SameFilm(const FilmState& a, const FilmState& b) {
-  auto same = [](const auto& x, const auto& y) {
-    // Empty arrays (no feature channels) have null data, which memcmp must not be given.
-    return x.size() == y.size() &&
-           (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
-  };
-  return same(a.mean, b.mean) && same(a.m2, b.m2) && same(a.lumMean, b.lumMean) &&
-         same(a.lumM2, b.lumM2) && same(a.count, b.count) && same(a.albedoSum, b.albedoSum);
-}
-
 TEST(FilmMerge, AnEmptySideIsAnExactIdentityAndShapesMustMatch) {
   std::mt19937 rng(3);
   FilmState film = WelfordFilm(RandomSamples(rng, 8, 5));
@@ -156,6 +146,30 @@ TEST(FilmAssembler, TheRootDoesNotDependOnArrivalOrderOrWhereMergesHappen) {
     for (auto& [node, film] : nodes) root.Add(node, std::move(film));
     EXPECT_TRUE(SameFilm(root.Finish(EmptyFilm(16, 1, true)), reference)) << "trial " << trial;
   }
+}
+
+TEST(FilmAssembler, MergedAwayFilmsGoToThePoolAndTheRootIsUnchanged) {
+  std::mt19937 rng(13);
+  ChunkTree tree(8, 4);
+  std::vector<FilmState> leaves;
+  for (uint32_t k = 0; k < 4; ++k) leaves.push_back(WelfordFilm(RandomSamples(rng, 16, 2)));
+  FilmAssembler plain(tree);
+  for (uint32_t k = 0; k < 4; ++k) plain.Add(ChunkTree::Leaf(k), leaves[k]);
+  FilmPool pool;
+  FilmAssembler pooled(tree, 1, &pool);
+  FilmState second = leaves[1];
+  const glm::dvec3* secondMemory = second.mean.data();
+  pooled.Add(ChunkTree::Leaf(0), leaves[0]);
+  pooled.Add(ChunkTree::Leaf(1), std::move(second));  // merged into leaf 0's film
+  FilmState kept = pool.Take();
+  EXPECT_EQ(kept.mean.data(), secondMemory);
+  EXPECT_TRUE(pool.Take().mean.empty());  // nothing else was merged away yet
+  pooled.Add(ChunkTree::Leaf(2), leaves[2]);
+  pooled.Add(ChunkTree::Leaf(3), leaves[3]);  // two merges: leaf 3's film and node [2, 4)'s
+  EXPECT_FALSE(pool.Take().mean.empty());
+  EXPECT_FALSE(pool.Take().mean.empty());
+  EXPECT_TRUE(SameFilm(pooled.Finish(EmptyFilm(16, 1, true)),
+                       plain.Finish(EmptyFilm(16, 1, true))));
 }
 
 TEST(FilmAssembler, MissingLeavesCountAsEmptyAndOverlapsAreRefused) {

@@ -2,6 +2,7 @@
 // a one-shot render gives (CPU, bit for bit), since every pixel adds its samples in order.
 #include <gtest/gtest.h>
 
+#include "src/distributed/film_merge.h"
 #include "src/integrator/render_session.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
@@ -77,6 +78,30 @@ TEST(RenderSession, ResetStartsOverAndACameraChangeTakesEffect) {
   session->RenderRange(0, 2);
   FilmImage away = session->Image();
   EXPECT_LT(MeanOverImage(away, 1).mean, 0.5 * MeanOverImage(before, 1).mean);
+}
+
+// A film saved over another one (a leaf's save over a merged-away film under --chunks and
+// MPI) equals a fresh save, keeps the old film's memory where the size matches, and drops
+// feature channels the session does not keep.
+TEST(RenderSession, SavingOverAnotherFilmEqualsAFreshSave) {
+  Scene scene = GlassMirror(2);
+  auto session = MakeCpuSession(scene, TwoThreads());
+  session->RenderRange(0, 2);
+  FilmState fresh = session->SaveFilm();
+  RenderOptions withFeatures = TwoThreads();
+  withFeatures.featureBuffers = true;
+  auto other = MakeCpuSession(scene, withFeatures);
+  other->RenderRange(0, 1);
+  FilmState reused = other->SaveFilm();
+  ASSERT_FALSE(reused.albedoSum.empty());
+  ASSERT_FALSE(SameFilm(reused, fresh));
+  const glm::dvec3* memory = reused.mean.data();
+  session->SaveFilmInto(reused);
+  EXPECT_TRUE(SameFilm(reused, fresh));
+  EXPECT_EQ(reused.mean.data(), memory);
+  FilmState larger = EmptyFilm(80, 64, true);
+  session->SaveFilmInto(larger);
+  EXPECT_TRUE(SameFilm(larger, fresh));
 }
 
 TEST(RenderSession, AFilmOfAnotherSizeIsRefused) {

@@ -12,6 +12,7 @@
 
 #include "src/integrator/render_api.h"
 #include "src/io/scene_loader.h"
+#include "tests/test_util.h"
 #include "tests/z_scores.h"
 
 namespace pt::test {
@@ -27,6 +28,15 @@ inline Scene SmallScene(const std::string& path, int width, int height, int spp)
   desc.render.height = height;
   desc.render.spp = spp;
   return BuildScene(std::move(desc));
+}
+
+// The same film bit for bit: size, statistics, counts and feature channels.
+inline bool SameFilm(const FilmState& a, const FilmState& b) {
+  return a.width == b.width && a.height == b.height && BitIdentical(a.mean, b.mean) &&
+         BitIdentical(a.m2, b.m2) && BitIdentical(a.lumMean, b.lumMean) &&
+         BitIdentical(a.lumM2, b.lumM2) && BitIdentical(a.count, b.count) &&
+         BitIdentical(a.albedoSum, b.albedoSum) && BitIdentical(a.normalSum, b.normalSum) &&
+         BitIdentical(a.depthSum, b.depthSum);
 }
 
 inline RenderResult RenderOnCpu(const Scene& scene, RenderOptions options = {}) {

@@ -7,8 +7,15 @@
 #include "src/integrator/wave_plan.h"
 
 namespace pt {
+namespace {
 
-LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf) {
+// Merging films between leaves stalls the render; it is memory-bound and splits well.
+constexpr int kChunkMergeThreads = 4;
+
+}  // namespace
+
+LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf,
+                      FilmState reuse) {
   using Clock = std::chrono::steady_clock;
   auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
@@ -19,7 +26,8 @@ LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t le
   session.ResetFilm();
   r.samples = session.RenderRange(tree.FirstSample(node), tree.EndSample(node));
   Clock::time_point t1 = Clock::now();
-  r.film = session.SaveFilm();
+  session.SaveFilmInto(reuse);
+  r.film = std::move(reuse);
   r.renderMs = ms(t0, t1);
   r.saveMs = ms(t1, Clock::now());
   return r;
@@ -38,14 +46,15 @@ RenderResult RenderChunked(const SessionMaker& make, const Scene& scene,
     };
   }
   std::unique_ptr<RenderSession> session = make(scene, options, inner);
-  FilmAssembler assembler(tree);
+  FilmPool pool;
+  FilmAssembler assembler(tree, kChunkMergeThreads, &pool);
   FilmState empty = session->SaveFilm();
   pixels = empty.PixelCount();
   for (uint32_t leaf = 0; leaf < tree.Chunks(); ++leaf) {
     if (callbacks.shouldStop && callbacks.shouldStop()) break;
     uint64_t expected = pixels * (tree.EndSample(ChunkTree::Leaf(leaf)) -
                                   tree.FirstSample(ChunkTree::Leaf(leaf)));
-    LeafResult r = RenderLeaf(*session, tree, leaf);
+    LeafResult r = RenderLeaf(*session, tree, leaf, pool.Take());
     base += r.samples;
     assembler.Add(ChunkTree::Leaf(leaf), std::move(r.film));
     if (r.samples < expected) break;  // stopped: Ctrl-C or the time limit

@@ -15,13 +15,15 @@ using SessionMaker = std::function<std::unique_ptr<RenderSession>(
 
 // One leaf rendered on a session into a fresh film: the samples taken (fewer than the leaf
 // holds when the session's stop callback or time limit ended it between waves), the film, and
-// the milliseconds spent rendering and downloading the film.
+// the milliseconds spent rendering and downloading the film. The film is saved into `reuse`'s
+// memory (a film from a FilmPool).
 struct LeafResult {
   uint64_t samples = 0;
   FilmState film;
   double renderMs = 0.0, saveMs = 0.0;
 };
-LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf);
+LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf,
+                      FilmState reuse = {});
 
 // Every leaf on one session made with callbacks that see the whole render's progress. The
 // options' adaptive sampling, preview and reference must be off (the app refuses them).

@@ -20,7 +20,7 @@ class FailingSession final : public RenderSession {
     return inner_->RenderRange(begin, end);
   }
   uint64_t RenderUpTo(uint32_t spp) override { return inner_->RenderUpTo(spp); }
-  FilmState SaveFilm() override { return inner_->SaveFilm(); }
+  void SaveFilmInto(FilmState& film) override { inner_->SaveFilmInto(film); }
   void LoadFilm(const FilmState& film) override { inner_->LoadFilm(film); }
   void ResetFilm() override { inner_->ResetFilm(); }
   FilmImage Image() override { return inner_->Image(); }

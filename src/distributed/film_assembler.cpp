@@ -18,11 +18,12 @@ bool Overlap(const ChunkNode& a, const ChunkNode& b) { return a.begin < b.end &&
 
 }  // namespace
 
-FilmState FilmAssembler::Merged(FilmState left, const FilmState& right) {
+FilmState FilmAssembler::Merged(FilmState left, FilmState right) {
   auto t0 = std::chrono::steady_clock::now();
   MergeFilmInto(left, right, mergeThreads_);
   mergeMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                   .count();
+  if (pool_) pool_->Give(std::move(right));
   return left;
 }
 
@@ -40,7 +41,8 @@ void FilmAssembler::Add(const ChunkNode& node, FilmState film) {
     bool left = n.begin < sibling->first.begin;
     FilmState other = std::move(sibling->second);
     nodes_.erase(sibling);
-    film = left ? Merged(std::move(film), other) : Merged(std::move(other), film);
+    film = left ? Merged(std::move(film), std::move(other))
+                : Merged(std::move(other), std::move(film));
     n = tree_.Parent(n);
   }
   nodes_.emplace(n, std::move(film));
@@ -65,7 +67,7 @@ FilmState FilmAssembler::Finish(FilmState empty) {
     if (node.IsLeaf()) return std::nullopt;
     std::optional<FilmState> left = self(self, ChunkTree::Left(node));
     std::optional<FilmState> right = self(self, ChunkTree::Right(node));
-    if (left && right) return Merged(std::move(*left), *right);
+    if (left && right) return Merged(std::move(*left), std::move(*right));
     return left ? std::move(left) : std::move(right);
   };
   std::optional<FilmState> root = build(build, tree_.Root());

@@ -8,14 +8,16 @@
 #include <vector>
 
 #include "src/distributed/chunk_tree.h"
+#include "src/distributed/film_pool.h"
 #include "src/integrator/render_api.h"
 
 namespace pt {
 
 class FilmAssembler {
  public:
-  explicit FilmAssembler(ChunkTree tree, int mergeThreads = 1)
-      : tree_(tree), mergeThreads_(mergeThreads) {}
+  // Films merged into a sibling go to `pool` (when given) for their memory to be reused.
+  explicit FilmAssembler(ChunkTree tree, int mergeThreads = 1, FilmPool* pool = nullptr)
+      : tree_(tree), mergeThreads_(mergeThreads), pool_(pool) {}
 
   const ChunkTree& Tree() const { return tree_; }
 
@@ -36,10 +38,11 @@ class FilmAssembler {
   double MergeMs() const { return mergeMs_; }
 
  private:
-  FilmState Merged(FilmState left, const FilmState& right);
+  FilmState Merged(FilmState left, FilmState right);
 
   ChunkTree tree_;
   int mergeThreads_;
+  FilmPool* pool_;
   std::map<ChunkNode, FilmState> nodes_;
   double mergeMs_ = 0.0;
 };

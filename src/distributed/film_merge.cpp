@@ -1,9 +1,8 @@
 #include "src/distributed/film_merge.h"
 
-#include <algorithm>
 #include <stdexcept>
-#include <thread>
-#include <vector>
+
+#include "src/core/parallel_ranges.h"
 
 namespace pt {
 namespace {
@@ -57,17 +56,10 @@ void MergeFilmInto(FilmState& into, const FilmState& from, int threads) {
     throw std::invalid_argument("film merge: one film has feature channels, the other not");
   CheckShape(into, "first");
   CheckShape(from, "second");
-  size_t n = into.PixelCount();
   // Below ~64k pixels a thread costs more than it saves.
-  size_t parts = std::clamp<size_t>(n / 65536, 1, size_t(std::max(1, threads)));
-  auto mergeRange = [&](size_t part) {
-    size_t lo = n * part / parts, hi = n * (part + 1) / parts;
+  ForRangesOnThreads(into.PixelCount(), threads, 65536, [&](size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; ++i) MergePixel(into, from, i);
-  };
-  std::vector<std::thread> workers;
-  for (size_t p = 1; p < parts; ++p) workers.emplace_back(mergeRange, p);
-  mergeRange(0);
-  for (std::thread& t : workers) t.join();
+  });
 }
 
 FilmState EmptyFilm(uint32_t width, uint32_t height, bool features) {

@@ -31,7 +31,7 @@ RankLoop::RankLoop(MpiJobImpl& job, const SessionMaker& make, const Scene& scene
     : job_(job), comm_(job.Comm()), rank_(job.Rank()), size_(job.Size()), make_(make),
       scene_(scene), options_(options), distributed_(distributed), onProgress_(onProgress),
       stopSignal_(stopSignal), tree_(uint32_t(scene.desc.render.spp), distributed.chunks),
-      assembler_(tree_, distributed.mergeThreads), outbox_(job.Comm()) {
+      assembler_(tree_, distributed.mergeThreads, &shared_.films), outbox_(job.Comm()) {
   childrenLeft_ = Children(rank_, size_);
   const RenderSettings& r = scene.desc.render;
   CropWindow crop = options.crop.Empty() ? CropWindow{0, 0, r.width, r.height} : options.crop;

@@ -78,9 +78,9 @@ class RankLoop {
 
   ChunkTree tree_;
   uint32_t filmWidth_ = 0, filmHeight_ = 0;  // the crop window's
+  LaneShared shared_;
   FilmAssembler assembler_;
   Outbox outbox_;
-  LaneShared shared_;
   std::vector<std::unique_ptr<RenderLane>> lanes_;
   std::vector<Clock::time_point> wantSince_;
   std::set<int> waiting_;  // lanes whose request rank 0 has not answered yet

@@ -73,7 +73,7 @@ void RenderLane::Run() {
       std::optional<uint32_t> leaf = WaitForGrant();
       if (!leaf) break;
       reported = 0;
-      LeafResult r = RenderLeaf(*session, tree_, *leaf);
+      LeafResult r = RenderLeaf(*session, tree_, *leaf, shared_.films.Take());
       LaneEvent done = event(LaneEvent::kLeafDone);
       done.leaf = *leaf;
       done.samples = r.samples;

@@ -15,6 +15,7 @@
 
 #include "src/distributed/chunk_tree.h"
 #include "src/distributed/chunked_render.h"
+#include "src/distributed/film_pool.h"
 
 namespace pt {
 
@@ -47,6 +48,7 @@ struct LaneShared {
   std::atomic<bool> stop{false};         // end the current leaf between waves, take no more
   std::atomic<uint64_t> samples{0};      // samples rendered by every lane, for progress
   LaneInbox inbox;
+  FilmPool films;                        // merged-away films whose memory the lanes reuse
 };
 
 class RenderLane {

@@ -24,7 +24,7 @@ class BackendSession final : public RenderSession {
     return integrator_.RenderRange(begin, end);
   }
   uint64_t RenderUpTo(uint32_t spp) override { return integrator_.RenderUpTo(spp); }
-  FilmState SaveFilm() override { return integrator_.SaveFilm(); }
+  void SaveFilmInto(FilmState& film) override { integrator_.SaveFilmInto(film); }
   void LoadFilm(const FilmState& film) override { integrator_.LoadFilm(film); }
   void ResetFilm() override { integrator_.ResetFilm(); }
   FilmImage Image() override { return integrator_.ResolveFilm(); }

@@ -25,7 +25,14 @@ class RenderSession {
   // Each pixel takes samples from its own count up to spp (resuming an interrupted render).
   virtual uint64_t RenderUpTo(uint32_t spp) = 0;
 
-  virtual FilmState SaveFilm() = 0;
+  FilmState SaveFilm() {
+    FilmState film;
+    SaveFilmInto(film);
+    return film;
+  }
+  // Into the film's own arrays: saving over a film of the same size reuses its memory (a
+  // 1080p film is 124 MB, whose fresh pages cost more than the copy).
+  virtual void SaveFilmInto(FilmState& film) = 0;
   // Throws std::invalid_argument when the film's size or feature channels do not match.
   virtual void LoadFilm(const FilmState& film) = 0;
   virtual void ResetFilm() = 0;

@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "src/core/parallel_ranges.h"
 #include "src/integrator/film.h"
 #include "src/integrator/flag_policy.h"
 #include "src/integrator/path_state.h"
@@ -301,7 +302,13 @@ class WavefrontIntegrator {
   // The film as an image: mean and per-channel sample variance per pixel.
   FilmImage ResolveFilm() { return ResolveFilmImage(SaveFilm()); }
 
-  FilmState SaveFilm();
+  FilmState SaveFilm() {
+    FilmState f;
+    SaveFilmInto(f);
+    return f;
+  }
+  // Into f's own arrays (a film of the same size saves with no fresh pages to fault in).
+  void SaveFilmInto(FilmState& f);
   void LoadFilm(const FilmState& film);
   void ResetFilm();
   RenderStats Stats();
@@ -351,6 +358,17 @@ class WavefrontIntegrator {
   bool compact_ = true;
   bool rayOrder_ = false;  // --ray-order, auto resolved
   SortMode sortMode_ = SortMode::kOff;  // auto resolved
+  // A float film array on the host: in place on a host backend, else downloaded into scratch
+  // that stays mapped between saves.
+  const vec3* HostFloats(const Buffer<vec3>& b, std::vector<vec3>& scratch) {
+    if constexpr (Backend::kHostMemory) {
+      return b.Data();
+    } else {
+      b.Download(scratch);
+      return scratch.data();
+    }
+  }
+
   bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;
   IntegratorParams params_{};
@@ -371,6 +389,7 @@ class WavefrontIntegrator {
   Buffer<glm::dvec3> filmMeanDouble_, filmM2Double_;
   Buffer<float> filmLumMean_, filmLumM2_, filmDepth_;
   Buffer<uint32_t> filmCount_, activePixels_, resumePixels_;
+  std::vector<vec3> hostMean_, hostM2_;  // SaveFilmInto's copies of a device film, kept
   FilmView film_{};
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
