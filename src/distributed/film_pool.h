@@ -6,7 +6,10 @@
 // Thread-safe: the render lanes take, the thread that merges gives.
 #pragma once
 
+#include <atomic>
+#include <functional>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "src/integrator/render_api.h"
@@ -15,6 +18,24 @@ namespace pt {
 
 class FilmPool {
  public:
+  FilmPool() = default;
+  FilmPool(const FilmPool&) = delete;
+  FilmPool& operator=(const FilmPool&) = delete;
+  ~FilmPool() {
+    stop_ = true;
+    if (stocker_.joinable()) stocker_.join();
+  }
+
+  // Makes `count` films with `make` on a thread of its own and keeps them, so that the first
+  // saves find memory whose pages are in already (a GPU rank's host is otherwise idle while
+  // its lanes render).
+  void Stock(size_t count, std::function<FilmState()> make) {
+    if (stocker_.joinable()) stocker_.join();
+    stocker_ = std::thread([this, count, make = std::move(make)] {
+      for (size_t i = 0; i < count && !stop_; ++i) Give(make());
+    });
+  }
+
   // A film kept earlier, or an empty one.
   FilmState Take() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -33,6 +54,8 @@ class FilmPool {
  private:
   std::mutex mutex_;
   std::vector<FilmState> films_;
+  std::atomic<bool> stop_{false};
+  std::thread stocker_;
 };
 
 }  // namespace pt

@@ -4,6 +4,8 @@
 #include <array>
 #include <thread>
 
+#include "src/distributed/film_merge.h"
+
 
 namespace pt::mpi {
 namespace {
@@ -82,6 +84,7 @@ DistributedResult RankLoop::Run() {
     failed.status = status;
     return failed;
   }
+  StockFilms();
   std::vector<uint64_t> lanesPerRank = job_.AllGather(uint64_t(lanes_.size()));
   if (IsRoot()) {
     scheduler_ = std::make_unique<LeafScheduler>(
@@ -97,6 +100,18 @@ DistributedResult RankLoop::Run() {
     if (!Step() && !moving) std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   return Finish();
+}
+
+// Warm films for the leaves' saves and the children's films: about as many as this rank
+// holds at once (one a lane, one a level of the tree over its share of the leaves).
+void RankLoop::StockFilms() {
+  uint32_t share = std::max<uint32_t>(1, tree_.Chunks() / uint32_t(size_));
+  size_t levels = 0;
+  while ((uint32_t(1) << levels) < share) ++levels;
+  shared_.films.Stock(lanes_.size() + levels,
+                      [w = filmWidth_, h = filmHeight_, f = options_.featureBuffers] {
+                        return EmptyFilm(w, h, f);
+                      });
 }
 
 bool RankLoop::Step() {

@@ -42,6 +42,7 @@ class RankLoop {
   bool IsRoot() const { return rank_ == 0; }
 
   std::pair<int, std::string> StartLanes();
+  void StockFilms();
   bool Step();
   bool Finished();
   DistributedResult Finish();

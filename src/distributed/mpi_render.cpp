@@ -11,7 +11,8 @@ namespace mpi {
 bool RankLoop::PollTransfers() {
   bool busy = false;
   // Children's films (and, after a stop, anyone's on rank 0).
-  while (std::unique_ptr<FilmTransferIn> in = FilmTransferIn::TryStart(comm_, MPI_ANY_SOURCE)) {
+  while (std::unique_ptr<FilmTransferIn> in = FilmTransferIn::TryStart(comm_, MPI_ANY_SOURCE,
+                                                                         &shared_.films)) {
     if (IsRoot()) lastHeard_[size_t(in->Source())] = Clock::now();
     incoming_.push_back(std::move(in));
     busy = true;

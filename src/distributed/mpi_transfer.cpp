@@ -24,11 +24,9 @@ std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool resize) {
     f.lumMean.resize(n);
     f.lumM2.resize(n);
     f.count.resize(n);
-    if (features) {
-      f.albedoSum.resize(n);
-      f.normalSum.resize(n);
-      f.depthSum.resize(n);
-    }
+    f.albedoSum.resize(features ? n : 0);
+    f.normalSum.resize(features ? n : 0);
+    f.depthSum.resize(features ? n : 0);
   }
   int n1 = int(n), n3 = int(3 * n);
   std::vector<ArrayRef> arrays = {{f.mean.data(), n3, MPI_DOUBLE},
@@ -78,7 +76,8 @@ FilmTransferOut::FilmTransferOut(MPI_Comm comm, int dest,
 
 bool FilmTransferOut::Done() { return AllDone(requests_); }
 
-std::unique_ptr<FilmTransferIn> FilmTransferIn::TryStart(MPI_Comm comm, int source) {
+std::unique_ptr<FilmTransferIn> FilmTransferIn::TryStart(MPI_Comm comm, int source,
+                                                         FilmPool* pool) {
   std::vector<char> bytes;
   int from = 0;
   if (!TryReceive(comm, source, kTagReduceHeader, &bytes, &from)) return nullptr;
@@ -88,7 +87,7 @@ std::unique_ptr<FilmTransferIn> FilmTransferIn::TryStart(MPI_Comm comm, int sour
     nlohmann::json header = nlohmann::json::parse(bytes.begin(), bytes.end());
     for (const auto& r : header.at("reports")) in->reports_.push_back(RankReportFromJson(r));
     for (const auto& n : header.at("nodes")) {
-      FilmState f;
+      FilmState f = pool ? pool->Take() : FilmState{};
       f.width = n.at(2).get<uint32_t>();
       f.height = n.at(3).get<uint32_t>();
       ChunkNode node{n.at(0).get<uint32_t>(), n.at(1).get<uint32_t>()};

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "src/distributed/chunk_tree.h"
+#include "src/distributed/film_pool.h"
 #include "src/distributed/mpi_comm.h"
 
 namespace pt::mpi {
@@ -33,8 +34,10 @@ class FilmTransferOut {
 class FilmTransferIn {
  public:
   // A header waiting from `source` (or MPI_ANY_SOURCE): received, and the arrays' receives
-  // posted. Null when none is waiting. Throws MpiFailure on a malformed header.
-  static std::unique_ptr<FilmTransferIn> TryStart(MPI_Comm comm, int source);
+  // posted, into films from `pool` when it has some. Null when none is waiting. Throws
+  // MpiFailure on a malformed header.
+  static std::unique_ptr<FilmTransferIn> TryStart(MPI_Comm comm, int source,
+                                                  FilmPool* pool = nullptr);
   bool Done();  // tests the receives
   // Stops waiting for a sender that is gone: cancels the receives.
   void Cancel();
