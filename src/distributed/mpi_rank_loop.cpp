@@ -75,6 +75,7 @@ DistributedResult RankLoop::Run() {
   own_.rank = rank_;
   own_.host = job_.Host();
   own_.lanes = distributed_.lanes;
+  StockFilms();  // beside the lanes' start-up
   auto [status, message] = StartLanes();
   if (status != 0) {
     shared_.stop = true;
@@ -84,7 +85,6 @@ DistributedResult RankLoop::Run() {
     failed.status = status;
     return failed;
   }
-  StockFilms();
   std::vector<uint64_t> lanesPerRank = job_.AllGather(uint64_t(lanes_.size()));
   if (IsRoot()) {
     scheduler_ = std::make_unique<LeafScheduler>(
@@ -108,7 +108,7 @@ void RankLoop::StockFilms() {
   uint32_t share = std::max<uint32_t>(1, tree_.Chunks() / uint32_t(size_));
   size_t levels = 0;
   while ((uint32_t(1) << levels) < share) ++levels;
-  shared_.films.Stock(lanes_.size() + levels,
+  shared_.films.Stock(size_t(distributed_.lanes) + levels,
                       [w = filmWidth_, h = filmHeight_, f = options_.featureBuffers] {
                         return EmptyFilm(w, h, f);
                       });
