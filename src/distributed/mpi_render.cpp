@@ -86,7 +86,6 @@ bool RankLoop::Finished() {
 }
 
 DistributedResult RankLoop::Finish() {
-  lanes_.clear();  // every lane has finished: joins their threads
   DistributedResult result;
   result.interrupted = signalSeen_ || stop_ == kStopInterrupt;
   result.timeLimited = stop_ == kStopTimeLimit;
@@ -96,13 +95,20 @@ DistributedResult RankLoop::Finish() {
   // replaced by rank 0's (ShareExitStatus) anyway.
   result.signal = result.interrupted ? (signal_ != 0 ? signal_ : SIGINT) : 0;
   result.status = stop_ >= kStopFailure ? 3 : result.interrupted ? 128 + result.signal : 0;
-  if (!IsRoot()) return result;
+  if (!IsRoot()) {
+    lanes_.clear();  // every lane has finished: joins their threads
+    return result;
+  }
   own_.mergeMs = assembler_.MergeMs();
   reports_.push_back(own_);
   std::sort(reports_.begin(), reports_.end(),
             [](const RankReport& a, const RankReport& b) { return a.rank < b.rank; });
   result.film = assembler_.Finish(EmptyFilm(filmWidth_, filmHeight_, options_.featureBuffers));
+  // The render ends with the root film. Joining the lanes waits for their sessions to free
+  // their memory (tens of milliseconds on a GPU), which a one-process render's time leaves
+  // out as well.
   result.renderMs = Ms(start_, Clock::now());
+  lanes_.clear();
   double lastRank = 0.0;
   for (const RankReport& r : reports_) {
     lastRank = std::max(lastRank, r.finishedMs);
