@@ -18,7 +18,7 @@ first log2(GPUs per host) levels inside a host, the rest over InfiniBand). Start
 MPI_Init, scene load, BVH, CUDA contexts, upload, and writing the image) happens on every
 rank at once and does not shrink with N.
 
-Constants marked "measured" come from the 2 x H200 run of 2026-11-24 (benchmarks/RESULTS.md);
+Constants marked "measured" come from the 2 x H200 runs of 2026-11-25 (benchmarks/RESULTS.md);
 the InfiniBand bandwidth and the extra launch time over many hosts are assumptions.
 """
 import argparse
@@ -27,18 +27,22 @@ import math
 FILM_BYTES = 60          # a pixel of a film on the wire and in host memory (88 with features)
 MERGE_BYTES = 3 * FILM_BYTES  # a merge reads two films and writes one
 
-# Measured, 2 x H200 host (2026-11-24): per pixel of a leaf's film, its download and
-# conversion to the double-precision host film (SaveFilm: 49-63 ms a leaf at 1920x1080);
-SAVE_NS_PER_PIXEL = 28.0
+# Measured, 2 x H200 host (2026-11-25, benchmarks/results/mpi_h200x2_2026-11-25_filmsave):
+# per pixel of a leaf's film, its download and conversion to the double-precision host film
+# into a recycled film (SaveFilmInto: ~11 ms a leaf at 1920x1080; 49-63 ms into fresh memory
+# before the film pool);
+SAVE_NS_PER_PIXEL = 5.5
 # a merge with the rank's spare cores (4.4 ms for 2,073,600 pixels: ~85 GB/s of traffic);
 MERGE_NS_PER_PIXEL = 2.1
-# one 124 MB film from rank 1 to rank 0 in Open MPI's shared memory, allocation included;
-HOST_LINK = 5e9
+# one 124 MB film from rank 1 to rank 0 in Open MPI's shared memory, its merge included (the
+# bunny's reduction: 65-96 ms; CMA single copy and larger fragments were not faster);
+HOST_LINK = 2e9
 # start-up and output: a whole run's wall time minus its render time (1 GPU 1.2 s, 2 GPUs
 # 1.5 s at 1920x1080).
 STARTUP_ONE, STARTUP_MPI = 1.2, 1.5
-# Rates of one H200 (measured, benchmarks/RESULTS.md): plain one-process renders.
-BUNNY_RATE, BREAKFAST_RATE = 489e6, 68.1e6
+# Rates of one H200 (measured the same day): plain one-process renders, 1024 spp (bunny
+# 1920x1080 in 2.669 s, Breakfast Room 1280x720 in 5.335 s).
+BUNNY_RATE, BREAKFAST_RATE = 794.5e6, 176.9e6
 
 
 def model(a, n, pixels, spp, rate, chunks):
@@ -88,8 +92,8 @@ def check(a):
     print("### The model against the measured 2 x H200 runs (medians of 3)\n")
     print("| scene | predicted 2-GPU render s | measured | predicted efficiency | measured |")
     print("|---|---|---|---|---|")
-    for name, w, h, rate, t1m, t2m in (("bunny", 1920, 1080, BUNNY_RATE, 4.340, 2.252),
-                                       ("Breakfast Room", 1280, 720, BREAKFAST_RATE, 13.866, 5.919)):
+    for name, w, h, rate, t1m, t2m in (("bunny", 1920, 1080, BUNNY_RATE, 2.669, 1.543),
+                                       ("Breakfast Room", 1280, 720, BREAKFAST_RATE, 5.335, 2.748)):
         t1, t2, _ = model(a, 2, w * h, 1024, rate, 32)
         print(f"| {name} | {t2:.3f} | {t2m:.3f} | {t1 / (2 * t2):.3f} | {t1m / (2 * t2m):.3f} |")
 
