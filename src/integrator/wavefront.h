@@ -299,8 +299,12 @@ class WavefrontIntegrator {
     });
   }
 
-  // The film as an image: mean and per-channel sample variance per pixel.
-  FilmImage ResolveFilm() { return ResolveFilmImage(SaveFilm()); }
+  // The film as an image: mean and per-channel sample variance per pixel. Saved into a film
+  // kept between calls: previews resolve the film again and again.
+  FilmImage ResolveFilm() {
+    SaveFilmInto(resolveFilm_);
+    return ResolveFilmImage(resolveFilm_);
+  }
 
   FilmState SaveFilm() {
     FilmState f;
@@ -390,6 +394,7 @@ class WavefrontIntegrator {
   Buffer<float> filmLumMean_, filmLumM2_, filmDepth_;
   Buffer<uint32_t> filmCount_, activePixels_, resumePixels_;
   std::vector<vec3> hostMean_, hostM2_;  // SaveFilmInto's copies of a device film, kept
+  FilmState resolveFilm_;                 // ResolveFilm's, kept
   FilmView film_{};
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
