@@ -55,7 +55,7 @@ std::vector<std::pair<ChunkNode, FilmState>> FilmAssembler::Take() {
   return out;
 }
 
-FilmState FilmAssembler::Finish(FilmState empty) {
+std::optional<FilmState> FilmAssembler::TakeRoot() {
   // The same merges Add makes, with missing nodes as identities.
   auto build = [&](auto& self, const ChunkNode& node) -> std::optional<FilmState> {
     auto held = nodes_.find(node);
@@ -70,7 +70,11 @@ FilmState FilmAssembler::Finish(FilmState empty) {
     if (left && right) return Merged(std::move(*left), std::move(*right));
     return left ? std::move(left) : std::move(right);
   };
-  std::optional<FilmState> root = build(build, tree_.Root());
+  return build(build, tree_.Root());
+}
+
+FilmState FilmAssembler::Finish(FilmState empty) {
+  std::optional<FilmState> root = TakeRoot();
   return root ? std::move(*root) : std::move(empty);
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -29,7 +30,9 @@ class FilmAssembler {
   std::vector<std::pair<ChunkNode, FilmState>> Take();
 
   // The root film. Nodes never added (an interrupted or failed render) count as films with
-  // no samples; `empty` (a film of the right size and channels) is returned when none was.
+  // no samples; nullopt when none was.
+  std::optional<FilmState> TakeRoot();
+  // The same, with `empty` (a film of the right size and channels) when none was added.
   FilmState Finish(FilmState empty);
 
   uint32_t LeavesHeld() const;
