@@ -20,6 +20,16 @@ struct FilmView {
   float* depthSum;
 };
 
+// A pixel with no samples: every channel the film keeps set to zero (ResetFilm's stage body).
+PT_HDI void ClearFilmPixel(const FilmView& f, uint32_t i) {
+  if (f.mean) f.mean[i] = f.m2[i] = vec3(0.0f);
+  if (f.meanDouble) f.meanDouble[i] = f.m2Double[i] = glm::dvec3(0.0);
+  f.lumMean[i] = f.lumM2[i] = 0.0f;
+  f.sampleCount[i] = 0u;
+  if (f.albedoSum) f.albedoSum[i] = f.normalSum[i] = vec3(0.0f);
+  if (f.depthSum) f.depthSum[i] = 0.0f;
+}
+
 template <typename V, typename R>
 PT_HDI void WelfordAdd(V& mean, V& m2, V x, R n) {
   V delta = x - mean;

@@ -184,11 +184,14 @@ void WavefrontIntegrator<Backend>::AllocateFilm(size_t pixels) {
 
 template <typename Backend>
 void WavefrontIntegrator<Backend>::ResetFilm() {
-  for (auto* b : {&filmMean_, &filmM2_, &filmAlbedo_, &filmNormal_}) b->Zero();
-  filmMeanDouble_.Zero();
-  filmM2Double_.Zero();
-  for (auto* b : {&filmLumMean_, &filmLumM2_, &filmDepth_}) b->Zero();
-  filmCount_.Zero();
+  // One stage over the pixels instead of a fill per array: on the GPU one kernel on the
+  // render's stream (separate fills each waited behind the other lane's kernels under MPI),
+  // on the CPU every thread. Waited for, since downloads and uploads use another stream.
+  EnsureAllocated();
+  FilmView film = film_;
+  backend_.ParallelFor(Stage::kAccumulate, plan_.cropPixels,
+                       [=] PT_HD(uint32_t i) { ClearFilmPixel(film, i); });
+  backend_.Synchronize();
   filmFresh_ = true;
   if (adaptive_.enabled) ResetActivePixels();
 }
