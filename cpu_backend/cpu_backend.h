@@ -116,6 +116,7 @@ class CpuBackend {
   void OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a);
 
   void Synchronize() {}
+  void BindThread() {}  // host memory: any thread may copy
   StageTimes Times() const { return times_; }
   std::string Name() const { return "cpu"; }
   std::string DeviceName() const;

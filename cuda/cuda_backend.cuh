@@ -98,6 +98,8 @@ class CudaBackend {
   void OrderByKey(Stage stage, const OrderShape& shape, const OrderArrays& a);
 
   void Synchronize();
+  // Makes this backend's device current on the calling thread (a thread that only copies).
+  void BindThread();
   StageTimes Times() const { return times_; }
   std::string Name() const { return "cuda"; }
   std::string DeviceName() const { return deviceName_; }
@@ -106,6 +108,7 @@ class CudaBackend {
 
  private:
   size_t defaultPaths_ = size_t(1) << 21;
+  int device_ = 0;
   void BeginStage(Stage stage);
   void EndStage(Stage stage);
 

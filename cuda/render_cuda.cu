@@ -146,6 +146,7 @@ CudaBackend::CudaBackend(int device) {
     throw BackendUnavailable("CUDA device " + std::to_string(device) + " does not exist (" +
                              std::to_string(count) + " found)");
   CudaCheck(cudaSetDevice(device), "cudaSetDevice");
+  device_ = device;
   cudaDeviceProp prop;
   CudaCheck(cudaGetDeviceProperties(&prop, device), "cudaGetDeviceProperties");
   deviceName_ = prop.name;
@@ -182,6 +183,8 @@ void CudaBackend::BeginStage(Stage stage) {
 void CudaBackend::EndStage(Stage) {
   CudaCheck(cudaEventRecord(pending_.back().end, stream_), "cudaEventRecord");
 }
+
+void CudaBackend::BindThread() { CudaCheck(cudaSetDevice(device_), "cudaSetDevice"); }
 
 void CudaBackend::Synchronize() {
   CudaCheck(cudaStreamSynchronize(stream_), "cudaStreamSynchronize");

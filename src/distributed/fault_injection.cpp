@@ -21,6 +21,8 @@ class FailingSession final : public RenderSession {
   }
   uint64_t RenderUpTo(uint32_t spp) override { return inner_->RenderUpTo(spp); }
   void SaveFilmInto(FilmState& film) override { inner_->SaveFilmInto(film); }
+  void SnapshotFilm() override { inner_->SnapshotFilm(); }
+  void SaveSnapshotInto(FilmState& film) override { inner_->SaveSnapshotInto(film); }
   void LoadFilm(const FilmState& film) override { inner_->LoadFilm(film); }
   void ResetFilm() override { inner_->ResetFilm(); }
   FilmImage Image() override { return inner_->Image(); }

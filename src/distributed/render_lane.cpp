@@ -1,6 +1,10 @@
 #include "src/distributed/render_lane.h"
 
+#include <chrono>
+#include <exception>
+#include <functional>
 #include <new>
+#include <utility>
 
 namespace pt {
 void LaneInbox::Post(LaneEvent event) {
@@ -44,7 +48,46 @@ std::optional<uint32_t> RenderLane::WaitForGrant() {
   return leaf;
 }
 
+namespace {
+
+// The previous leaf's save, on a thread of its own while the lane renders the next leaf: the
+// GPU does not wait for the download and the widening.
+class LeafSaver {
+ public:
+  LeafSaver() = default;
+  LeafSaver(const LeafSaver&) = delete;
+  LeafSaver& operator=(const LeafSaver&) = delete;
+  ~LeafSaver() {
+    if (thread_.joinable()) thread_.join();
+  }
+  // Waits for the save in flight; rethrows what it threw.
+  void Wait() {
+    if (thread_.joinable()) thread_.join();
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+  void Start(std::function<void()> save) {
+    Wait();
+    thread_ = std::thread([this, save = std::move(save)] {
+      try {
+        save();
+      } catch (...) {
+        error_ = std::current_exception();
+      }
+    });
+  }
+
+ private:
+  std::thread thread_;
+  std::exception_ptr error_;
+};
+
+}  // namespace
+
 void RenderLane::Run() {
+  using Clock = std::chrono::steady_clock;
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   auto post = [&](LaneEvent e) {
     e.lane = index_;
     shared_.inbox.Post(std::move(e));
@@ -68,20 +111,32 @@ void RenderLane::Run() {
     LaneEvent ready = event(LaneEvent::kReady);
     ready.stats = session->Stats();  // names the backend and device
     post(std::move(ready));
+    LeafSaver saver;  // declared after the session: done with it before it goes
     while (!shared_.stop.load()) {
       post(event(LaneEvent::kWantLeaf));
       std::optional<uint32_t> leaf = WaitForGrant();
       if (!leaf) break;
       reported = 0;
-      LeafResult r = RenderLeaf(*session, tree_, *leaf, shared_.films.Take());
-      LaneEvent done = event(LaneEvent::kLeafDone);
-      done.leaf = *leaf;
-      done.samples = r.samples;
-      done.film = std::move(r.film);
-      done.renderMs = r.renderMs;
-      done.saveMs = r.saveMs;
-      post(std::move(done));
+      ChunkNode node = ChunkTree::Leaf(*leaf);
+      Clock::time_point t0 = Clock::now();
+      session->ResetFilm();
+      uint64_t samples = session->RenderRange(tree_.FirstSample(node), tree_.EndSample(node));
+      double renderMs = ms(t0, Clock::now());
+      saver.Wait();  // the previous leaf's save still reads the snapshot
+      session->SnapshotFilm();
+      saver.Start([&, leaf = *leaf, samples, renderMs] {
+        Clock::time_point s0 = Clock::now();
+        LaneEvent done = event(LaneEvent::kLeafDone);
+        done.film = shared_.films.Take();
+        session->SaveSnapshotInto(done.film);
+        done.leaf = leaf;
+        done.samples = samples;
+        done.renderMs = renderMs;
+        done.saveMs = ms(s0, Clock::now());
+        post(std::move(done));
+      });
     }
+    saver.Wait();
     LaneEvent finished = event(LaneEvent::kFinished);
     finished.stats = session->Stats();
     post(std::move(finished));

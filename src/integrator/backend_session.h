@@ -25,6 +25,11 @@ class BackendSession final : public RenderSession {
   }
   uint64_t RenderUpTo(uint32_t spp) override { return integrator_.RenderUpTo(spp); }
   void SaveFilmInto(FilmState& film) override { integrator_.SaveFilmInto(film); }
+  void SnapshotFilm() override { integrator_.SnapshotFilm(); }
+  void SaveSnapshotInto(FilmState& film) override {
+    backend_.BindThread();  // the saving thread may be another one
+    integrator_.SaveSnapshotInto(film);
+  }
   void LoadFilm(const FilmState& film) override { integrator_.LoadFilm(film); }
   void ResetFilm() override { integrator_.ResetFilm(); }
   FilmImage Image() override { return integrator_.ResolveFilm(); }

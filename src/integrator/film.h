@@ -30,6 +30,26 @@ PT_HDI void ClearFilmPixel(const FilmView& f, uint32_t i) {
   if (f.depthSum) f.depthSum[i] = 0.0f;
 }
 
+// A pixel of one film copied into another of the same channels (SnapshotFilm's stage body).
+PT_HDI void CopyFilmPixel(const FilmView& to, const FilmView& from, uint32_t i) {
+  if (from.mean) {
+    to.mean[i] = from.mean[i];
+    to.m2[i] = from.m2[i];
+  }
+  if (from.meanDouble) {
+    to.meanDouble[i] = from.meanDouble[i];
+    to.m2Double[i] = from.m2Double[i];
+  }
+  to.lumMean[i] = from.lumMean[i];
+  to.lumM2[i] = from.lumM2[i];
+  to.sampleCount[i] = from.sampleCount[i];
+  if (from.albedoSum) {
+    to.albedoSum[i] = from.albedoSum[i];
+    to.normalSum[i] = from.normalSum[i];
+  }
+  if (from.depthSum) to.depthSum[i] = from.depthSum[i];
+}
+
 template <typename V, typename R>
 PT_HDI void WelfordAdd(V& mean, V& m2, V x, R n) {
   V delta = x - mean;

@@ -33,6 +33,12 @@ class RenderSession {
   // Into the film's own arrays: saving over a film of the same size reuses its memory (a
   // 1080p film is 124 MB, whose fresh pages cost more than the copy).
   virtual void SaveFilmInto(FilmState& film) = 0;
+  // A copy of the film kept on the session's device (waited for), and its save into `film`,
+  // which may run on another thread while this one clears the film and renders on: a render
+  // lane's leaf is saved while the next renders. The next SnapshotFilm must wait until that
+  // save has returned.
+  virtual void SnapshotFilm() = 0;
+  virtual void SaveSnapshotInto(FilmState& film) = 0;
   // Throws std::invalid_argument when the film's size or feature channels do not match.
   virtual void LoadFilm(const FilmState& film) = 0;
   virtual void ResetFilm() = 0;

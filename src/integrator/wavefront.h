@@ -17,6 +17,7 @@
 
 #include "src/core/parallel_ranges.h"
 #include "src/integrator/film.h"
+#include "src/integrator/film_buffers.h"
 #include "src/integrator/flag_policy.h"
 #include "src/integrator/path_state.h"
 #include "src/integrator/render_api.h"
@@ -80,7 +81,7 @@ class WavefrontIntegrator {
       return RenderWaves(waves, 0, uint64_t(plan_.cropPixels) * spp);
     }
     std::vector<uint32_t> counts, order;
-    filmCount_.Download(counts);
+    filmArrays_.Counts().Download(counts);
     for (uint32_t p = 0; p < counts.size(); ++p)
       if (counts[p] < spp) order.push_back(p);
     std::stable_sort(order.begin(), order.end(),
@@ -312,7 +313,17 @@ class WavefrontIntegrator {
     return f;
   }
   // Into f's own arrays (a film of the same size saves with no fresh pages to fault in).
-  void SaveFilmInto(FilmState& f);
+  void SaveFilmInto(FilmState& f) {
+    EnsureAllocated();
+    filmArrays_.SaveInto(f, plan_.cropWidth, plan_.cropHeight);
+  }
+  // A copy of the film on the backend (a stage over the pixels, waited for), which
+  // SaveSnapshotInto saves, possibly on another thread while this one clears the film and
+  // renders on. The next SnapshotFilm must wait until that save has returned.
+  void SnapshotFilm();
+  void SaveSnapshotInto(FilmState& f) {
+    snapshot_.SaveInto(f, plan_.cropWidth, plan_.cropHeight);
+  }
   void LoadFilm(const FilmState& film);
   void ResetFilm();
   RenderStats Stats();
@@ -362,17 +373,6 @@ class WavefrontIntegrator {
   bool compact_ = true;
   bool rayOrder_ = false;  // --ray-order, auto resolved
   SortMode sortMode_ = SortMode::kOff;  // auto resolved
-  // A float film array on the host: in place on a host backend, else downloaded into scratch
-  // that stays mapped between saves.
-  const vec3* HostFloats(const Buffer<vec3>& b, std::vector<vec3>& scratch) {
-    if constexpr (Backend::kHostMemory) {
-      return b.Data();
-    } else {
-      b.Download(scratch);
-      return scratch.data();
-    }
-  }
-
   bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;
   IntegratorParams params_{};
@@ -389,11 +389,8 @@ class WavefrontIntegrator {
   Buffer<vec3> featureAlbedo_, featureNormal_;
   Buffer<float> featureDepth_;
   PathState pathState_{};
-  Buffer<vec3> filmMean_, filmM2_, filmAlbedo_, filmNormal_;
-  Buffer<glm::dvec3> filmMeanDouble_, filmM2Double_;
-  Buffer<float> filmLumMean_, filmLumM2_, filmDepth_;
-  Buffer<uint32_t> filmCount_, activePixels_, resumePixels_;
-  std::vector<vec3> hostMean_, hostM2_;  // SaveFilmInto's copies of a device film, kept
+  FilmBuffers<Backend> filmArrays_, snapshot_;  // the film; SnapshotFilm's copy
+  Buffer<uint32_t> activePixels_, resumePixels_;
   FilmState resolveFilm_;                 // ResolveFilm's, kept
   FilmView film_{};
   AdaptiveSettings adaptive_;

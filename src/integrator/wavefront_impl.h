@@ -156,30 +156,21 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
 
 template <typename Backend>
 void WavefrontIntegrator<Backend>::AllocateFilm(size_t pixels) {
-  bool dbl = options_.filmDouble;
-  filmMean_.Resize(dbl ? 0 : pixels);
-  filmM2_.Resize(dbl ? 0 : pixels);
-  filmMeanDouble_.Resize(dbl ? pixels : 0);
-  filmM2Double_.Resize(dbl ? pixels : 0);
-  size_t features = params_.featureBuffers ? pixels : 0;
-  filmAlbedo_.Resize(features);
-  filmNormal_.Resize(features);
-  filmDepth_.Resize(features);
-  filmLumMean_.Resize(pixels);
-  filmLumM2_.Resize(pixels);
-  filmCount_.Resize(pixels);
+  filmArrays_.Allocate(pixels, options_.filmDouble, params_.featureBuffers != 0);
   activePixels_.Resize(adaptive_.enabled ? pixels : 0);
-  if constexpr (!Backend::kHostMemory) {
-    // SaveFilmInto's scratch, its pages faulted in now (start-up) rather than in the first
-    // save (31-44 ms for a 1080p film on a GPU host, with the other lane rendering).
-    hostMean_.resize(dbl ? 0 : pixels);
-    hostM2_.resize(dbl ? 0 : pixels);
-  }
-  film_ = FilmView{filmMean_.Data(),    filmM2_.Data(),     filmMeanDouble_.Data(),
-                   filmM2Double_.Data(), filmLumMean_.Data(), filmLumM2_.Data(),
-                   filmCount_.Data(),   filmAlbedo_.Data(), filmNormal_.Data(),
-                   filmDepth_.Data()};
+  film_ = filmArrays_.View();
   ResetFilm();
+}
+
+template <typename Backend>
+void WavefrontIntegrator<Backend>::SnapshotFilm() {
+  EnsureAllocated();
+  if (snapshot_.Pixels() != filmArrays_.Pixels())
+    snapshot_.Allocate(plan_.cropPixels, options_.filmDouble, params_.featureBuffers != 0);
+  FilmView from = film_, to = snapshot_.View();
+  backend_.ParallelFor(Stage::kAccumulate, plan_.cropPixels,
+                       [=] PT_HD(uint32_t i) { CopyFilmPixel(to, from, i); });
+  backend_.Synchronize();
 }
 
 template <typename Backend>
@@ -196,70 +187,10 @@ void WavefrontIntegrator<Backend>::ResetFilm() {
   if (adaptive_.enabled) ResetActivePixels();
 }
 
-// Threads that widen a float film to the saved doubles (the render's own are idle then).
-constexpr int kFilmSaveThreads = 4;
-
-template <typename Backend>
-void WavefrontIntegrator<Backend>::SaveFilmInto(FilmState& f) {
-  EnsureAllocated();
-  f.width = plan_.cropWidth;
-  f.height = plan_.cropHeight;
-  if (options_.filmDouble) {
-    filmMeanDouble_.Download(f.mean);
-    filmM2Double_.Download(f.m2);
-  } else {
-    const vec3* mean = HostFloats(filmMean_, hostMean_);
-    const vec3* m2 = HostFloats(filmM2_, hostM2_);
-    f.mean.resize(plan_.cropPixels);
-    f.m2.resize(plan_.cropPixels);
-    // Widening is the save's largest host cost after the pages (a 1080p film: ~8 ms on one
-    // core, ~2.3 ms on four).
-    ForRangesOnThreads(plan_.cropPixels, kFilmSaveThreads, 65536, [&](size_t lo, size_t hi) {
-      for (size_t i = lo; i < hi; ++i) {
-        f.mean[i] = glm::dvec3(mean[i]);
-        f.m2[i] = glm::dvec3(m2[i]);
-      }
-    });
-  }
-  filmLumMean_.Download(f.lumMean);
-  filmLumM2_.Download(f.lumM2);
-  filmCount_.Download(f.count);
-  if (params_.featureBuffers) {
-    filmAlbedo_.Download(f.albedoSum);
-    filmNormal_.Download(f.normalSum);
-    filmDepth_.Download(f.depthSum);
-  } else {
-    f.albedoSum.clear();
-    f.normalSum.clear();
-    f.depthSum.clear();
-  }
-}
-
 template <typename Backend>
 void WavefrontIntegrator<Backend>::LoadFilm(const FilmState& f) {
   EnsureAllocated();
-  size_t n = plan_.cropPixels;
-  bool features = params_.featureBuffers != 0;
-  if (f.width != plan_.cropWidth || f.height != plan_.cropHeight || f.mean.size() != n ||
-      f.m2.size() != n || f.lumMean.size() != n || f.lumM2.size() != n || f.count.size() != n)
-    throw std::invalid_argument("film state does not match the render's size");
-  if (features && (f.albedoSum.size() != n || f.normalSum.size() != n || f.depthSum.size() != n))
-    throw std::invalid_argument("film state lacks the feature channels this render keeps");
-  if (options_.filmDouble) {
-    filmMeanDouble_.Upload(f.mean);
-    filmM2Double_.Upload(f.m2);
-  } else {
-    filmMean_.Upload(std::vector<vec3>(f.mean.begin(), f.mean.end()));
-    filmM2_.Upload(std::vector<vec3>(f.m2.begin(), f.m2.end()));
-  }
-  filmLumMean_.Upload(f.lumMean);
-  filmLumM2_.Upload(f.lumM2);
-  filmCount_.Upload(f.count);
-  if (features) {
-    filmAlbedo_.Upload(f.albedoSum);
-    filmNormal_.Upload(f.normalSum);
-    filmDepth_.Upload(f.depthSum);
-  }
+  filmArrays_.LoadFrom(f, plan_.cropWidth, plan_.cropHeight);
   filmFresh_ = false;
 }
 
