@@ -75,7 +75,7 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
   if (backend == BackendKind::kCuda) {
     int gpus = backends.cudaDeviceCount();
     s.options.device = job.LocalRank() % gpus;
-    // Two lanes share the GPU, so that one's film download overlaps the other's rendering;
+    // Two lanes share the GPU, filling each other's idle gaps between kernels;
     // the host cores left over (past the lanes' and the main thread's) merge films.
     d.lanes = cli.lanes.value_or(2);
     d.mergeThreads = int(std::clamp(coresPerRank - 3, 1u, 16u));

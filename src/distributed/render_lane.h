@@ -1,6 +1,8 @@
 // A render lane: one thread with its own RenderSession, rendering the chunk-tree leaves its
-// process hands it, one at a time, into fresh films. A GPU process runs two lanes on its
-// device, so that one lane's film download and hand-over overlap the other's rendering.
+// process hands it, one at a time. A leaf's film is copied on the device and saved by a
+// thread of the lane's own while the lane renders the next leaf. A GPU process runs two
+// lanes on its device, whose waves fill each other's idle gaps (the bunny on 2 GPUs: 1.38 s
+// with two lanes, 1.42-1.43 s with one).
 // Lanes never talk to other processes: they post events to their process's main thread and
 // wait for its grants. MPI-free.
 #pragma once
