@@ -104,6 +104,24 @@ TEST(RenderSession, SavingOverAnotherFilmEqualsAFreshSave) {
   EXPECT_TRUE(SameFilm(larger, fresh));
 }
 
+// A snapshot keeps the film as it was while the film is cleared and rendered into again
+// (a render lane saves a leaf from it while it renders the next).
+TEST(RenderSession, ASnapshotKeepsTheFilmWhileTheNextRangeRenders) {
+  Scene scene = GlassMirror(4);
+  auto session = MakeCpuSession(scene, TwoThreads());
+  FilmState none;
+  EXPECT_THROW(session->SaveSnapshotInto(none), std::logic_error);
+  session->RenderRange(0, 2);
+  FilmState first = session->SaveFilm();
+  session->SnapshotFilm();
+  session->ResetFilm();
+  session->RenderRange(2, 4);
+  FilmState saved;
+  session->SaveSnapshotInto(saved);
+  EXPECT_TRUE(SameFilm(saved, first));
+  EXPECT_FALSE(SameFilm(session->SaveFilm(), first));
+}
+
 TEST(RenderSession, AFilmOfAnotherSizeIsRefused) {
   Scene scene = GlassMirror(1);
   auto session = MakeCpuSession(scene, TwoThreads());

@@ -15,7 +15,6 @@
 #include <type_traits>
 #include <vector>
 
-#include "src/core/parallel_ranges.h"
 #include "src/integrator/film.h"
 #include "src/integrator/film_buffers.h"
 #include "src/integrator/flag_policy.h"
@@ -322,6 +321,7 @@ class WavefrontIntegrator {
   // renders on. The next SnapshotFilm must wait until that save has returned.
   void SnapshotFilm();
   void SaveSnapshotInto(FilmState& f) {
+    if (snapshot_.Pixels() == 0) throw std::logic_error("SaveSnapshotInto before SnapshotFilm");
     snapshot_.SaveInto(f, plan_.cropWidth, plan_.cropHeight);
   }
   void LoadFilm(const FilmState& film);
