@@ -6,7 +6,6 @@
 
 #include "src/distributed/film_merge.h"
 
-
 namespace pt::mpi {
 namespace {
 
