@@ -14,22 +14,27 @@ constexpr int kChunkMergeThreads = 4;
 
 }  // namespace
 
-LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf,
-                      FilmState reuse) {
+LeafRender RenderLeafSamples(RenderSession& session, const ChunkTree& tree, uint32_t leaf) {
   using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
   ChunkNode node = ChunkTree::Leaf(leaf);
-  LeafResult r;
   Clock::time_point t0 = Clock::now();
   session.ResetFilm();
+  LeafRender r;
   r.samples = session.RenderRange(tree.FirstSample(node), tree.EndSample(node));
-  Clock::time_point t1 = Clock::now();
+  r.renderMs = Ms(t0, Clock::now());
+  return r;
+}
+
+LeafResult RenderLeaf(RenderSession& session, const ChunkTree& tree, uint32_t leaf,
+                      FilmState reuse) {
+  LeafRender rendered = RenderLeafSamples(session, tree, leaf);
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
   session.SaveFilmInto(reuse);
+  LeafResult r;
+  r.samples = rendered.samples;
+  r.renderMs = rendered.renderMs;
   r.film = std::move(reuse);
-  r.renderMs = ms(t0, t1);
-  r.saveMs = ms(t1, Clock::now());
+  r.saveMs = Ms(t0, std::chrono::steady_clock::now());
   return r;
 }
 

@@ -2,6 +2,7 @@
 // image an MPI job with the same --chunks gives, whatever its ranks (`pathtracer --chunks N`).
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 
@@ -13,10 +14,22 @@ namespace pt {
 using SessionMaker = std::function<std::unique_ptr<RenderSession>(
     const Scene&, const RenderOptions&, const RenderCallbacks&)>;
 
-// One leaf rendered on a session into a fresh film: the samples taken (fewer than the leaf
-// holds when the session's stop callback or time limit ended it between waves), the film, and
-// the milliseconds spent rendering and downloading the film. The film is saved into `reuse`'s
-// memory (a film from a FilmPool).
+// Milliseconds between two steady-clock times (leaf and rank timings).
+inline double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// One leaf's samples rendered into the session's film, cleared first: the samples taken
+// (fewer than the leaf holds when the session's stop callback or time limit ended it between
+// waves) and the milliseconds it took.
+struct LeafRender {
+  uint64_t samples = 0;
+  double renderMs = 0.0;
+};
+LeafRender RenderLeafSamples(RenderSession& session, const ChunkTree& tree, uint32_t leaf);
+
+// The same, and the film saved into `reuse`'s memory (a film from a FilmPool), with the
+// milliseconds the save took.
 struct LeafResult {
   uint64_t samples = 0;
   FilmState film;

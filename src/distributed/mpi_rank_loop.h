@@ -24,11 +24,6 @@
 
 namespace pt::mpi {
 
-// Milliseconds between two steady-clock times (the rank loop's timers and stats).
-inline double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
 class RankLoop {
  public:
   RankLoop(MpiJobImpl& job, const SessionMaker& make, const Scene& scene,

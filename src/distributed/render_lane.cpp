@@ -85,9 +85,6 @@ class LeafSaver {
 
 void RenderLane::Run() {
   using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
   auto post = [&](LaneEvent e) {
     e.lane = index_;
     shared_.inbox.Post(std::move(e));
@@ -117,22 +114,18 @@ void RenderLane::Run() {
       std::optional<uint32_t> leaf = WaitForGrant();
       if (!leaf) break;
       reported = 0;
-      ChunkNode node = ChunkTree::Leaf(*leaf);
-      Clock::time_point t0 = Clock::now();
-      session->ResetFilm();
-      uint64_t samples = session->RenderRange(tree_.FirstSample(node), tree_.EndSample(node));
-      double renderMs = ms(t0, Clock::now());
+      LeafRender rendered = RenderLeafSamples(*session, tree_, *leaf);
       saver.Wait();  // the previous leaf's save still reads the snapshot
       session->SnapshotFilm();
-      saver.Start([&, leaf = *leaf, samples, renderMs] {
+      saver.Start([&, leaf = *leaf, rendered] {
         Clock::time_point s0 = Clock::now();
         LaneEvent done = event(LaneEvent::kLeafDone);
         done.film = shared_.films.Take();
         session->SaveSnapshotInto(done.film);
         done.leaf = leaf;
-        done.samples = samples;
-        done.renderMs = renderMs;
-        done.saveMs = ms(s0, Clock::now());
+        done.samples = rendered.samples;
+        done.renderMs = rendered.renderMs;
+        done.saveMs = Ms(s0, Clock::now());
         post(std::move(done));
       });
     }
