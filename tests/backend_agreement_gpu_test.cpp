@@ -90,6 +90,32 @@ TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
   }
 }
 
+// --prim-pool on the GPU: the lanes of a warp test each other's leaf primitives, and the
+// closest hit is still the smallest (t, tagIndex), so the image is the per-ray walk's. Both
+// kernel variants: without the hit test, and with it (--tri-test box-clamped runs those).
+TEST(BackendAgreementGpu, PrimPoolDoesNotChangeTheImage) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/mesh_scene.json"), 64, 4, 5));
+  ASSERT_EQ(scene.bvhLayout, BvhLayout::kWide);
+  for (TriangleTest test : {TriangleTest::kWatertight, TriangleTest::kBoxClamped}) {
+    for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
+      RenderOptions off, on;
+      off.compact = on.compact = compact;
+      off.triangleTest = on.triangleTest = test;
+      off.primPool = Toggle::kOff;
+      on.primPool = Toggle::kOn;
+      RenderResult a = RenderCuda(scene, off), b = RenderCuda(scene, on);
+      EXPECT_FALSE(a.stats.primPoolUsed);
+      EXPECT_TRUE(b.stats.primPoolUsed);
+      EXPECT_GT(b.stats.primsTested, 0u);
+      EXPECT_EQ(a.stats.shadowRays, b.stats.shadowRays);
+      EXPECT_EQ(0, std::memcmp(a.image.rgb.data(), b.image.rgb.data(),
+                               a.image.rgb.size() * sizeof(float)))
+          << "tri-test " << int(test) << ", compact " << int(compact);
+    }
+  }
+}
+
 TEST(BackendAgreementGpu, StatisticsAreFilledOnTheGpu) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
   Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_box.json"), 64, 4, 1));

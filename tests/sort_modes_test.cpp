@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "cpu_backend/cpu_backend.h"
+#include "src/integrator/flag_policy.h"
 #include "src/integrator/shade_order.h"
 #include "src/integrator/stages/ray_order.h"
 #include "tests/material_zoo.h"
@@ -194,6 +195,24 @@ TEST(RayOrder, GivesTheSameImageWithEveryShadingOrder) {
           << SortModeName(mode) << " compact " << int(compact);
       EXPECT_EQ(r.stats.nodesVisited, base.stats.nodesVisited) << SortModeName(mode);
     }
+}
+
+// --prim-pool exists where warps do (the GPU) and for the wide layout of a flat scene; auto
+// turns it on from ray ordering's threshold up. The CPU renders with it asked for say it ran
+// without (the host walk is per ray; the GPU's image check is in backend_agreement_gpu_test).
+TEST(PrimPool, OnlyForWideFlatScenesOnLockstepBackends) {
+  const size_t big = size_t(1) << 17, small = big - 1;
+  EXPECT_TRUE(ChoosePrimPool(Toggle::kAuto, true, true, big));
+  EXPECT_FALSE(ChoosePrimPool(Toggle::kAuto, true, true, small));
+  EXPECT_TRUE(ChoosePrimPool(Toggle::kOn, true, true, small));
+  EXPECT_FALSE(ChoosePrimPool(Toggle::kOff, true, true, big));
+  EXPECT_FALSE(ChoosePrimPool(Toggle::kOn, false, true, big));  // no warps
+  EXPECT_FALSE(ChoosePrimPool(Toggle::kOn, true, false, big));  // binary layout or instances
+  Scene scene = BuildScene(MaterialZooDesc(TempDir(), 6, 24, 2, 6));
+  RenderOptions o;
+  o.threads = 2;
+  o.primPool = Toggle::kOn;
+  EXPECT_FALSE(RenderCpu(scene, o).stats.primPoolUsed);
 }
 
 // The key: the direction's octant in the top 3 of 24 bits, then the origin's Morton code in

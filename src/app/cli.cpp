@@ -197,6 +197,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.rayOrder = ParseChoice<Toggle>(
              s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
        }},
+      {"--prim-pool",
+       [](CliOptions& o, ValueSource& s) {
+         o.primPool = ParseChoice<Toggle>(
+             s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

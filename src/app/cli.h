@@ -48,6 +48,7 @@ struct CliOptions {
   bool specialize = true;
   TriangleTest triangleTest = TriangleTest::kWatertight;
   Toggle rayOrder = Toggle::kAuto;
+  Toggle primPool = Toggle::kAuto;
   std::string envPath;                // --env: replaces the scene's environment
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;

@@ -49,6 +49,8 @@ Backend and performance
   --compact on|off|auto    stream compaction of finished paths (default auto)
   --ray-order on|off|auto  sort each bounce's rays by direction and origin before tracing
                            (default auto)
+  --prim-pool on|off|auto  GPU, wide BVH: the lanes of a warp test their leaves' primitives
+                           together (default auto: on for scenes of 131,072+ primitives)
   --sort off|material|queues|auto
                            shading order: as queued; ordered by material (one kernel); or
                            ordered and one kernel per material type and texturing (queues);

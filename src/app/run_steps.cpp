@@ -118,6 +118,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.specialize = cli.specialize;
   options.triangleTest = cli.triangleTest;
   options.rayOrder = cli.rayOrder;
+  options.primPool = cli.primPool;
   options.envSampling = cli.envSampling;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.

@@ -145,6 +145,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"sort", SortJson(stats)},
       {"compact", stats.compactUsed},
       {"ray_order", stats.rayOrderUsed},
+      {"prim_pool", stats.primPoolUsed},
       {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
       {"paths_in_flight", stats.pathsInFlight},
       {"memory", MemoryJson(stats, run)},

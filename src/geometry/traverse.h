@@ -15,6 +15,7 @@
 #include "src/geometry/traverse_binary.h"
 #include "src/geometry/traverse_instanced.h"
 #include "src/geometry/traverse_wide.h"
+#include "src/geometry/traverse_wide_pooled.h"
 
 namespace pt {
 
@@ -71,9 +72,14 @@ PT_HDI void TraverseScene(const SceneView& s, const Ray& ray, float* tMax, LeafF
 // Nearest primitive with 0 < t < tMax. On a hit fills *hit (t, prim index into s.prims, uv as
 // IntersectPrim gives it) and returns true; on a miss sets hit->prim = kNoHit, hit->t = tMax,
 // hit->uv = 0. Counters (may be nullptr) are added to: nodes entered and primitives tested.
-template <BvhLayout L, bool kHitTest = true>
+template <BvhLayout L, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                                TraversalCounters* counters) {
+#ifdef PT_POOLED_LEAF_TESTS
+  if constexpr (L == BvhLayout::kWide && kPooled) {
+    if (CanPoolLeafTests()) return IntersectClosestPooled<kHitTest>(s, ray, tMax, hit, counters);
+  }
+#endif
   PrimLeaf<TraceMode::kClosest, kHitTest> leaf(s, ray);
   float t = tMax;
   TraverseScene<L, TraceMode::kClosest>(s, ray, &t, leaf, counters);
@@ -85,9 +91,14 @@ PT_HDI bool IntersectClosestIn(const SceneView& s, const Ray& ray, float tMax, H
 }
 
 // Whether any primitive has 0 < t < tMax (shadow rays); stops at the first one found.
-template <BvhLayout L, bool kHitTest = true>
+template <BvhLayout L, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
                            TraversalCounters* counters) {
+#ifdef PT_POOLED_LEAF_TESTS
+  if constexpr (L == BvhLayout::kWide && kPooled) {
+    if (CanPoolLeafTests()) return IntersectAnyPooled<kHitTest>(s, ray, tMax, counters);
+  }
+#endif
   PrimLeaf<TraceMode::kAny, kHitTest> leaf(s, ray);
   float t = tMax;
   TraverseScene<L, TraceMode::kAny>(s, ray, &t, leaf, counters);
@@ -99,17 +110,17 @@ PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
 // or the one flat BVH otherwise: each a kernel variant of its own, so a flat scene runs exactly
 // the single-level code. kHitTest: whether some material asks for a hit test (alpha, culling);
 // a flat scene without one runs traversal without that code. Instanced scenes always have it.
-template <BvhLayout L, bool kInstanced, bool kHitTest = true>
+template <BvhLayout L, bool kInstanced, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool SceneClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                          TraversalCounters* counters) {
   if constexpr (kInstanced) return IntersectClosestInstanced<L>(s, ray, tMax, hit, counters);
-  else return IntersectClosestIn<L, kHitTest>(s, ray, tMax, hit, counters);
+  else return IntersectClosestIn<L, kHitTest, kPooled>(s, ray, tMax, hit, counters);
 }
 
-template <BvhLayout L, bool kInstanced, bool kHitTest = true>
+template <BvhLayout L, bool kInstanced, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCounters* counters) {
   if constexpr (kInstanced) return IntersectAnyInstanced<L>(s, ray, tMax, counters);
-  else return IntersectAnyIn<L, kHitTest>(s, ray, tMax, counters);
+  else return IntersectAnyIn<L, kHitTest, kPooled>(s, ray, tMax, counters);
 }
 
 // The same in the layout and structure the view names (a run-time choice; stages instantiate

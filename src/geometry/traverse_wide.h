@@ -75,6 +75,30 @@ PT_HDI bool PostponePrims(bool hasPrims) {
 #endif
 }
 
+// The ray's constants for the node test.
+PT_HDI WideRay MakeWideRay(const Ray& ray) {
+  WideRay r;
+  r.o = ray.o;
+  r.invDir = vec3(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
+  r.neg[0] = r.invDir.x < 0.0f;  // 1/d is never -0; 1/-0 = -inf counts as negative
+  r.neg[1] = r.invDir.y < 0.0f;
+  r.neg[2] = r.invDir.z < 0.0f;
+  r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
+  for (int a = 0; a < 3; ++a) {
+    r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
+    r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);
+  }
+  return r;
+}
+
+// A group's next interior child: takes the group's highest bit, returns the child's node index.
+PT_HDI uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t octInv) {
+  const uint32_t bit = HighestBit(*groupMask);
+  *groupMask &= ~(1u << bit);
+  const uint32_t slot = (bit - 24u) ^ octInv;
+  return groupBase + PopCount8(*groupMask & 0xffu & ((1u << slot) - 1u));
+}
+
 }  // namespace detail
 
 // Walks a wide BVH: the current node group (interior hits of a node, plus its child base and
@@ -86,17 +110,7 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
                      TraversalCounters* counters) {
   if (bvh.nodeCount == 0 || !TraceableRay(ray)) return;
   float tMax = *tMaxInOut;
-  detail::WideRay r;
-  r.o = ray.o;
-  r.invDir = vec3(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
-  r.neg[0] = r.invDir.x < 0.0f;  // 1/d is never -0; 1/-0 = -inf counts as negative
-  r.neg[1] = r.invDir.y < 0.0f;
-  r.neg[2] = r.invDir.z < 0.0f;
-  r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
-  for (int a = 0; a < 3; ++a) {
-    r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
-    r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);
-  }
+  const detail::WideRay r = detail::MakeWideRay(ray);
   uint32_t nodesVisited = 0;
 
   uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
@@ -112,12 +126,8 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   uint32_t primBase = 0, primMask = 0;
   for (;;) {
     if (primMask == 0 && groupMask > 0x00ffffffu) {
-      const uint32_t bit = detail::HighestBit(groupMask);
-      groupMask &= ~(1u << bit);
+      const uint32_t index = detail::NextChild(groupBase, &groupMask, r.octInv);
       if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) push(groupBase, groupMask);
-      const uint32_t slot = (bit - 24u) ^ r.octInv;
-      const uint32_t index =
-          groupBase + detail::PopCount8(groupMask & 0xffu & ((1u << slot) - 1u));
       ++nodesVisited;
       const detail::WideNodeHits n = detail::TestWideNode(bvh.nodes + index, r, tMax);
       groupBase = n.childBase;

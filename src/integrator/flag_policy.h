@@ -18,4 +18,9 @@ FlagChoice ChooseFlags(const RenderOptions& options);
 // (of placed primitives, for a scene with instances).
 bool ChooseRayOrder(Toggle asked, bool lockstep, size_t prims);
 
+// --prim-pool: whether a warp's lanes test the primitives of their leaves together
+// (geometry/traverse_wide_pooled.h). It exists for the wide layout of a flat scene on a backend
+// whose lanes run in lockstep; wideFlat: the scene is one. prims as for ChooseRayOrder.
+bool ChoosePrimPool(Toggle asked, bool lockstep, bool wideFlat, size_t prims);
+
 }  // namespace pt

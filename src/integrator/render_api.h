@@ -41,6 +41,7 @@ struct RenderOptions {
   SortMode sort = SortMode::kAuto;
   SortMethod sortMethod = SortMethod::kAuto;
   Toggle rayOrder = Toggle::kAuto;   // sort each bounce's rays before intersect (ray_order.h)
+  Toggle primPool = Toggle::kAuto;   // pool a warp's leaf tests (traverse_wide_pooled.h)
   IntegratorMode integrator = IntegratorMode::kMis;
   CropWindow crop;
   double timeLimitSeconds = 0.0;     // <= 0: none
@@ -104,6 +105,7 @@ struct RenderStats {
   bool interrupted = false;
   bool compactUsed = false;
   bool rayOrderUsed = false;
+  bool primPoolUsed = false;
   bool sortUsed = false;
   std::string sortMode = "off";    // the shading order that ran (auto's choice)
   std::string sortMethod;          // how paths were ordered, when they were

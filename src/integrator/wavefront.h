@@ -214,16 +214,18 @@ class WavefrontIntegrator {
 
   // Intersect: closest hit per queued path, and its sort key when shading is ordered.
   void IntersectClosest(const uint32_t* queue, uint32_t n) {
-    ForTraversal([&](auto layout, auto instanced, auto hitTest) {
+    ForTraversal([&](auto layout, auto instanced, auto hitTest, auto pooled) {
       IntersectLayout<decltype(layout)::value, decltype(instanced)::value,
-                      decltype(hitTest)::value>(queue, n);
+                      decltype(hitTest)::value, decltype(pooled)::value>(queue, n);
     });
   }
 
-  // Calls f(layout, instanced, hitTest) with the scene's traversal variant as
+  // Calls f(layout, instanced, hitTest, pooled) with the scene's traversal variant as
   // std::integral_constant values: each variant is a kernel of its own, a flat scene runs the
   // single-level one, and one whose materials ask for no hit test (alpha, culling) runs it
-  // without that code. Instanced scenes always have it (6 variants, not 8).
+  // without that code. Instanced scenes always have it. pooled: a flat scene's wide walk with
+  // --prim-pool (traverse_wide_pooled.h), in kernels of its own so that the per-ray walk keeps
+  // its registers (8 variants).
   template <typename F>
   void ForTraversal(F f) {
     using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
@@ -232,19 +234,20 @@ class WavefrontIntegrator {
     using No = std::false_type;
     const SceneView& v = sceneBuffers_.view;
     bool wide = v.bvhLayout == BvhLayout::kWide;
-    if (v.instanceCount != 0) wide ? f(Wide{}, Yes{}, Yes{}) : f(Binary{}, Yes{}, Yes{});
-    else if (hitTests_) wide ? f(Wide{}, No{}, Yes{}) : f(Binary{}, No{}, Yes{});
-    else wide ? f(Wide{}, No{}, No{}) : f(Binary{}, No{}, No{});
+    if (v.instanceCount != 0) wide ? f(Wide{}, Yes{}, Yes{}, No{}) : f(Binary{}, Yes{}, Yes{}, No{});
+    else if (wide && primPool_) hitTests_ ? f(Wide{}, No{}, Yes{}, Yes{}) : f(Wide{}, No{}, No{}, Yes{});
+    else if (hitTests_) wide ? f(Wide{}, No{}, Yes{}, No{}) : f(Binary{}, No{}, Yes{}, No{});
+    else wide ? f(Wide{}, No{}, No{}, No{}) : f(Binary{}, No{}, No{}, No{});
   }
 
-  template <BvhLayout L, bool kInstanced, bool kHitTest>
+  template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled>
   void IntersectLayout(const uint32_t* queue, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
-      IntersectPath<L, kInstanced, kHitTest>(scene, ps, queue[i], i, keys, counters);
+      IntersectPath<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], i, keys, counters);
     });
   }
 
@@ -259,19 +262,19 @@ class WavefrontIntegrator {
 
   // Shadow: any-hit test for each queued shadow ray.
   void TraceShadowRays(const uint32_t* queue, uint32_t n) {
-    ForTraversal([&](auto layout, auto instanced, auto hitTest) {
+    ForTraversal([&](auto layout, auto instanced, auto hitTest, auto pooled) {
       ShadowLayout<decltype(layout)::value, decltype(instanced)::value,
-                   decltype(hitTest)::value>(queue, n);
+                   decltype(hitTest)::value, decltype(pooled)::value>(queue, n);
     });
   }
 
-  template <BvhLayout L, bool kInstanced, bool kHitTest>
+  template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled>
   void ShadowLayout(const uint32_t* queue, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     Counter* counters = counters_.Data();
     backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
-      TraceShadowRay<L, kInstanced, kHitTest>(scene, ps, queue[i], counters);
+      TraceShadowRay<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], counters);
     });
   }
 
@@ -372,6 +375,7 @@ class WavefrontIntegrator {
   RenderCallbacks callbacks_;
   bool compact_ = true;
   bool rayOrder_ = false;  // --ray-order, auto resolved
+  bool primPool_ = false;  // --prim-pool, auto resolved (wide layout, flat scene, GPU)
   SortMode sortMode_ = SortMode::kOff;  // auto resolved
   bool allocated_ = false, filmFresh_ = true;
   WavePlan plan_;

@@ -29,6 +29,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.sort = o.sort;
   options_.sortMethod = o.sortMethod;
   options_.rayOrder = o.rayOrder;
+  options_.primPool = o.primPool;
   options_.integrator = o.integrator;
   options_.lightPaths = o.lightPaths;
   options_.specialize = o.specialize;
@@ -45,6 +46,10 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   rayOrder_ = ChooseRayOrder(options_.rayOrder, Backend::kLockstepLanes,
                              std::max<uint64_t>(scene_.prims.size(), scene_.PlacedTriangleCount()));
   stats_.rayOrderUsed = rayOrder_;
+  primPool_ = ChoosePrimPool(options_.primPool, Backend::kLockstepLanes,
+                             scene_.bvhLayout == BvhLayout::kWide && scene_.instances.empty(),
+                             scene_.prims.size());
+  stats_.primPoolUsed = primPool_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
   featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;

@@ -28,7 +28,7 @@ PT_HDI uint32_t MaterialSortKey(const SceneView& scene, const uint32_t* material
 // Path id at queue position i. L is the scene's BVH layout (scene.bvhLayout), kInstanced
 // whether it has instances (two levels), kHitTest whether a material asks for hit tests: one
 // kernel per variant, so none pays for another's registers.
-template <BvhLayout L, bool kInstanced, bool kHitTest>
+template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled = false>
 PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uint32_t i,
                           SortKeyOutput sort, Counter* counters) {
   if (!IsAlive(ps.flags[id])) {  // only without compaction do dead paths stay queued
@@ -41,7 +41,7 @@ PT_HDI void IntersectPath(const SceneView& scene, PathState ps, uint32_t id, uin
   hit.t = kInfinity;
   hit.uv = vec2(0.0f);
   TraversalCounters tc;
-  SceneClosest<L, kInstanced, kHitTest>(scene, ray, kInfinity, &hit, &tc);
+  SceneClosest<L, kInstanced, kHitTest, kPooled>(scene, ray, kInfinity, &hit, &tc);
   StoreHit(ps, id, hit, kInstanced);
   if (sort.keys) sort.keys[i] = MaterialSortKey(scene, sort.materialKeys, hit);
   if (counters) {

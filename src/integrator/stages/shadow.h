@@ -10,14 +10,14 @@ namespace pt {
 
 // Occlusion only: the traversal stops at the first blocker (L, kInstanced, kHitTest as in
 // IntersectPath).
-template <BvhLayout L, bool kInstanced, bool kHitTest>
+template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled = false>
 PT_HDI void TraceShadowRay(const SceneView& scene, PathState ps, uint32_t id, Counter* counters) {
   uint32_t flags = ps.flags[id];
   if (!(flags & kFlagShadow)) return;
   ps.flags[id] = flags & ~kFlagShadow;
   Ray ray{ps.shadowOrigin[id], ps.shadowDir[id]};
   TraversalCounters tc;
-  bool occluded = SceneAny<L, kInstanced, kHitTest>(scene, ray, ps.shadowTMax[id], &tc);
+  bool occluded = SceneAny<L, kInstanced, kHitTest, kPooled>(scene, ray, ps.shadowTMax[id], &tc);
   if (!occluded) ps.radiance[id] += ps.shadowRadiance[id];
   if (counters) {
     AddToCounter(&counters[kCounterNodesVisited], tc.nodes);
