@@ -95,8 +95,10 @@ TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
 // kernel variants: without the hit test, and with it (--tri-test box-clamped runs those).
 TEST(BackendAgreementGpu, PrimPoolDoesNotChangeTheImage) {
   if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
-  Scene scene = BuildScene(SeededSceneDesc(SourcePath("scenes/mesh_scene.json"), 64, 4, 5));
-  ASSERT_EQ(scene.bvhLayout, BvhLayout::kWide);
+  BvhBuildOptions wide;
+  wide.layout = BvhLayout::kWide;
+  Scene scene =
+      BuildScene(SeededSceneDesc(SourcePath("scenes/mesh_scene.json"), 64, 4, 5), wide);
   for (TriangleTest test : {TriangleTest::kWatertight, TriangleTest::kBoxClamped}) {
     for (Toggle compact : {Toggle::kOn, Toggle::kOff}) {
       RenderOptions off, on;
