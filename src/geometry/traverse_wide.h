@@ -76,7 +76,7 @@ PT_HDI bool PostponePrims(bool hasPrims) {
 }
 
 // The ray's constants for the node test.
-PT_HDI WideRay MakeWideRay(const Ray& ray) {
+PT_HDI_HOT WideRay MakeWideRay(const Ray& ray) {
   WideRay r;
   r.o = ray.o;
   r.invDir = vec3(1.0f / ray.d.x, 1.0f / ray.d.y, 1.0f / ray.d.z);
@@ -92,7 +92,7 @@ PT_HDI WideRay MakeWideRay(const Ray& ray) {
 }
 
 // A group's next interior child: takes the group's highest bit, returns the child's node index.
-PT_HDI uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t octInv) {
+PT_HDI_HOT uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t octInv) {
   const uint32_t bit = HighestBit(*groupMask);
   *groupMask &= ~(1u << bit);
   const uint32_t slot = (bit - 24u) ^ octInv;

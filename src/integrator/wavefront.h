@@ -234,10 +234,15 @@ class WavefrontIntegrator {
     using No = std::false_type;
     const SceneView& v = sceneBuffers_.view;
     bool wide = v.bvhLayout == BvhLayout::kWide;
-    if (v.instanceCount != 0) wide ? f(Wide{}, Yes{}, Yes{}, No{}) : f(Binary{}, Yes{}, Yes{}, No{});
-    else if (wide && primPool_) hitTests_ ? f(Wide{}, No{}, Yes{}, Yes{}) : f(Wide{}, No{}, No{}, Yes{});
-    else if (hitTests_) wide ? f(Wide{}, No{}, Yes{}, No{}) : f(Binary{}, No{}, Yes{}, No{});
-    else wide ? f(Wide{}, No{}, No{}, No{}) : f(Binary{}, No{}, No{}, No{});
+    if (v.instanceCount != 0) {
+      wide ? f(Wide{}, Yes{}, Yes{}, No{}) : f(Binary{}, Yes{}, Yes{}, No{});
+    } else if (wide && primPool_) {
+      hitTests_ ? f(Wide{}, No{}, Yes{}, Yes{}) : f(Wide{}, No{}, No{}, Yes{});
+    } else if (hitTests_) {
+      wide ? f(Wide{}, No{}, Yes{}, No{}) : f(Binary{}, No{}, Yes{}, No{});
+    } else {
+      wide ? f(Wide{}, No{}, No{}, No{}) : f(Binary{}, No{}, No{}, No{});
+    }
   }
 
   template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled>
