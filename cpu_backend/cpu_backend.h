@@ -74,8 +74,8 @@ class CpuBackend {
   // near the caches.
   size_t DefaultPathsInFlight() const { return size_t(1) << 16; }
 
-  template <typename F>
-  void ParallelFor(Stage stage, uint32_t n, const F& body) {
+  template <int kMinBlocks = 0, typename F>
+  void ParallelFor(Stage stage, uint32_t n, const F& body) {  // (kMinBlocks: a GPU matter)
     auto t0 = Clock::now();
     pool_.Run(n, [&body](uint32_t begin, uint32_t end) {
       for (uint32_t i = begin; i < end; ++i) body(i);

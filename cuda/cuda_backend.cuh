@@ -24,6 +24,14 @@ __global__ void ParallelForKernel(uint32_t n, F body) {
   if (i < n) body(i);
 }
 
+// The same for a stage that asks for kMinBlocks blocks of 128 threads resident per SM: the
+// compiler fits its registers to that (a cap on this kernel only, not on the whole build).
+template <int kMinBlocks, typename F>
+__global__ void __launch_bounds__(128, kMinBlocks) ParallelForKernelBounded(uint32_t n, F body) {
+  uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) body(i);
+}
+
 // A shade queue's kernel: its range [range[0], range[1]) was written on the device by an
 // earlier kernel, so the host launches over the bounce's path count and never waits; threads
 // past the range exit at once (as pbrt-v4's per-material work queues).
@@ -53,12 +61,18 @@ class CudaBackend {
   // few paths are left, and add each pixel's samples to the film in fewer passes.
   size_t DefaultPathsInFlight() const { return defaultPaths_; }
 
-  template <typename F>
+  // kMinBlocks > 0: the kernel keeps that many blocks per SM (its registers capped to fit).
+  template <int kMinBlocks = 0, typename F>
   void ParallelFor(Stage stage, uint32_t n, F body) {
     if (n == 0) return;
     constexpr uint32_t kBlock = 128;
     BeginStage(stage);
-    ParallelForKernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, body);
+    if constexpr (kMinBlocks > 0) {
+      ParallelForKernelBounded<kMinBlocks>
+          <<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, body);
+    } else {
+      ParallelForKernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, body);
+    }
     CudaCheck(cudaGetLastError(), "kernel launch");
     EndStage(stage);
   }

@@ -245,13 +245,22 @@ class WavefrontIntegrator {
     }
   }
 
+  // Blocks of 128 threads a traversal kernel keeps per SM (0: as many as its registers allow).
+  // 8 caps a flat scene's kernels without hit tests at 64 registers: on an H200 that made the
+  // binary walk 4% faster, the wide one 0-3% and the pooled one 9% (benchmarks/RESULTS.md,
+  // 2026-11-26). The instanced and hit-test variants were not measured and keep theirs.
+  static constexpr int TraversalMinBlocks(bool instanced, bool hitTest) {
+    return instanced || hitTest ? 0 : 8;
+  }
+
   template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled>
   void IntersectLayout(const uint32_t* queue, uint32_t n) {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
-    backend_.ParallelFor(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
+    constexpr int kMinBlocks = TraversalMinBlocks(kInstanced, kHitTest);
+    backend_.template ParallelFor<kMinBlocks>(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
       IntersectPath<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], i, keys, counters);
     });
   }
@@ -278,7 +287,8 @@ class WavefrontIntegrator {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     Counter* counters = counters_.Data();
-    backend_.ParallelFor(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
+    constexpr int kMinBlocks = TraversalMinBlocks(kInstanced, kHitTest);
+    backend_.template ParallelFor<kMinBlocks>(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
       TraceShadowRay<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], counters);
     });
   }
