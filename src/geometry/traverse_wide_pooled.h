@@ -7,8 +7,8 @@
 // them found in that step together: entry j of the pooled list goes to the j-th lane, which
 // reads the owning lane's ray with shuffles and reports its hit through a per-lane slot in
 // shared memory. Each round keeps every lane busy while primitives remain. It pays on large
-// scenes (1.1x per render on the Breakfast Room) and costs on small ones, whose walks are short
-// (0.83x on the bunny Cornell): hence --prim-pool auto (flag_policy.h).
+// scenes (1.18x per render on the Breakfast Room) and costs on small ones, whose walks are short
+// (0.89x on the bunny Cornell): hence --prim-pool auto (flag_policy.h).
 //
 // Same hits as the per-ray walk: the closest hit is the smallest (t, tagIndex) of the tested
 // primitives (traverse.h's rule), taken here with a 64-bit atomicMin on that key; a primitive

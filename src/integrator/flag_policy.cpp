@@ -20,9 +20,9 @@ bool ChooseRayOrder(Toggle asked, bool lockstep, size_t prims) {
   return lockstep && prims >= kRayOrderMinPrims;
 }
 
-// Pooling pays where walks are long and leaves many (measured on an H200, benchmarks/
-// RESULTS.md, 2026-11-26: 1.3x on the Breakfast Room and its 3.3M-triangle variant) and costs
-// 7-11% on the bunny Cornell and pbrt's box, so auto uses ray ordering's threshold.
+// Pooling pays where walks are long (measured on an H200, benchmarks/RESULTS.md, 2026-11-26:
+// 1.16-1.18x per render on the Breakfast Room and its 3.3M-triangle variant) and costs 3-11% on
+// the bunny Cornell and pbrt's box, so auto uses ray ordering's threshold.
 bool ChoosePrimPool(Toggle asked, bool lockstep, bool wideFlat, size_t prims) {
   if (!lockstep || !wideFlat || asked == Toggle::kOff) return false;
   return asked == Toggle::kOn || prims >= kRayOrderMinPrims;
