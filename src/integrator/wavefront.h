@@ -245,13 +245,11 @@ class WavefrontIntegrator {
     }
   }
 
-  // Blocks of 128 threads a traversal kernel keeps per SM (0: as many as its registers allow).
-  // 8 caps a flat scene's kernels without hit tests at 64 registers: on an H200 that made the
-  // binary walk 4% faster, the wide one 0-3% and the pooled one 9% (benchmarks/RESULTS.md,
-  // 2026-11-26). The instanced and hit-test variants were not measured and keep theirs.
-  static constexpr int TraversalMinBlocks(bool instanced, bool hitTest) {
-    return instanced || hitTest ? 0 : 8;
-  }
+  // Blocks of 128 threads every traversal kernel keeps per SM, which caps it at 64 registers
+  // (it would take 70-114). On an H200 (benchmarks/RESULTS.md, 2026-11-26): flat scenes 0-4%
+  // faster per render in the per-ray walks and 9% in the pooled one; with hit tests 10-21%;
+  // the instanced bunny field 16% (wide) and 26% (binary).
+  static constexpr int kTraversalMinBlocks = 8;
 
   template <BvhLayout L, bool kInstanced, bool kHitTest, bool kPooled>
   void IntersectLayout(const uint32_t* queue, uint32_t n) {
@@ -259,8 +257,7 @@ class WavefrontIntegrator {
     SceneView scene = sceneBuffers_.view;
     SortKeyOutput keys = shade_.KeyOutput(sortMode_);
     Counter* counters = counters_.Data();
-    constexpr int kMinBlocks = TraversalMinBlocks(kInstanced, kHitTest);
-    backend_.template ParallelFor<kMinBlocks>(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
+    backend_.template ParallelFor<kTraversalMinBlocks>(Stage::kIntersect, n, [=] PT_HD(uint32_t i) {
       IntersectPath<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], i, keys, counters);
     });
   }
@@ -287,8 +284,7 @@ class WavefrontIntegrator {
     PathState ps = pathState_;
     SceneView scene = sceneBuffers_.view;
     Counter* counters = counters_.Data();
-    constexpr int kMinBlocks = TraversalMinBlocks(kInstanced, kHitTest);
-    backend_.template ParallelFor<kMinBlocks>(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
+    backend_.template ParallelFor<kTraversalMinBlocks>(Stage::kShadow, n, [=] PT_HD(uint32_t i) {
       TraceShadowRay<L, kInstanced, kHitTest, kPooled>(scene, ps, queue[i], counters);
     });
   }
