@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 
 #include "cpu_backend/cpu_backend.h"
@@ -18,11 +17,6 @@
 
 namespace pt::test {
 namespace {
-
-bool SameImage(const FilmImage& a, const FilmImage& b) {
-  return a.rgb.size() == b.rgb.size() &&
-         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
 
 RenderResult RenderWith(const Scene& scene, SortMode sort, SortMethod method, Toggle compact) {
   RenderOptions o;
