@@ -41,7 +41,8 @@ Aabb Intersect(const Aabb& a, const Aabb& b) {
 // still index the binary primOrder.
 class LeafSplitter {
  public:
-  LeafSplitter(const BvhBuildResult& b, const std::vector<Aabb>& bounds) : b_(b), bounds_(bounds) {}
+  LeafSplitter(const BvhBuildResult& b, const std::vector<Aabb>& bounds, uint32_t maxLeafPrims)
+      : b_(b), bounds_(bounds), maxLeafPrims_(maxLeafPrims) {}
   std::vector<BvhNode> Run() {
     out_.reserve(b_.nodes.size() + b_.nodes.size() / 8);
     out_.emplace_back();
@@ -53,7 +54,7 @@ class LeafSplitter {
   void Copy(uint32_t src, uint32_t dst) {
     const BvhNode n = b_.nodes[src];
     if (n.IsLeaf()) {
-      if (n.count <= kMaxLeafPrims) out_[dst] = n;
+      if (n.count <= maxLeafPrims_) out_[dst] = n;
       else SplitRange(n.leftOrFirst, n.count, NodeBox(n), dst);
       return;
     }
@@ -71,7 +72,7 @@ class LeafSplitter {
     box = Intersect(box, leafBox);
     out_[dst].boundsMin = box.lo;
     out_[dst].boundsMax = box.hi;
-    if (count <= kMaxLeafPrims) {
+    if (count <= maxLeafPrims_) {
       out_[dst].leftOrFirst = first;
       out_[dst].count = count;
       return;
@@ -87,6 +88,7 @@ class LeafSplitter {
 
   const BvhBuildResult& b_;
   const std::vector<Aabb>& bounds_;
+  uint32_t maxLeafPrims_;
   std::vector<BvhNode> out_;
 };
 
@@ -202,8 +204,9 @@ struct Deferred {
 
 class Collapser {
  public:
-  Collapser(const BvhBuildResult& binary, const std::vector<BvhNode>& nodes, int threads)
-      : binary_(binary), nodes_(nodes), threads_(threads) {}
+  Collapser(const BvhBuildResult& binary, const std::vector<BvhNode>& nodes, int threads,
+            uint32_t maxLeafPrims)
+      : binary_(binary), nodes_(nodes), threads_(threads), maxLeafPrims_(maxLeafPrims) {}
 
   void Run(WideBvhResult* result) {
     ComputeCosts();
@@ -265,6 +268,7 @@ class Collapser {
   const BvhBuildResult& binary_;
   const std::vector<BvhNode>& nodes_;
   int threads_;
+  uint32_t maxLeafPrims_;
   Table<float> cost_;     // [node][slots - 1]: best cost of the subtree over that many slots
   Table<int8_t> choice_;  // 0: one slot; -1: as with one slot fewer; k: k slots go left
   Table<int8_t> split8_;  // k of the best distribution of the 8 slots over the children
@@ -336,7 +340,7 @@ void Collapser::NodeCost(uint32_t i) {
       if (c < dist[j]) dist[j] = c, arg[j] = int8_t(k);
     }
   }
-  float leaf = primCount_[i] <= kMaxLeafPrims ? area * kPrimCost * float(primCount_[i]) : kInf;
+  float leaf = primCount_[i] <= maxLeafPrims_ ? area * kPrimCost * float(primCount_[i]) : kInf;
   float internal = dist[kWidth] + area * kNodeCost;
   split8_[i] = arg[kWidth];
   asLeaf_[i] = leaf <= internal ? 1 : 0;
@@ -476,16 +480,18 @@ void Collapser::Append(const WideOut& part, uint32_t wideIndex, WideOut* top) {
 }  // namespace
 
 WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds,
-                             int threads) {
+                             int threads, int maxLeafPrims) {
+  const uint32_t leafLimit = uint32_t(std::clamp(maxLeafPrims, 1, int(kMaxLeafPrims)));
   WideBvhResult result;
   if (binary.nodes.empty() || binary.primOrder.empty()) return result;
   // Leaves of more than 3 primitives (the depth cap, or another leaf size) are split in a copy;
   // without any, that copy would be the same nodes in the same order.
   bool bigLeaves = false;
-  for (const BvhNode& n : binary.nodes) bigLeaves = bigLeaves || (n.IsLeaf() && n.count > kMaxLeafPrims);
+  for (const BvhNode& n : binary.nodes) bigLeaves = bigLeaves || (n.IsLeaf() && n.count > leafLimit);
   std::vector<BvhNode> split;
-  if (bigLeaves) split = LeafSplitter(binary, primBounds).Run();
-  Collapser(binary, bigLeaves ? split : binary.nodes, bvh_internal::BuildThreads(threads))
+  if (bigLeaves) split = LeafSplitter(binary, primBounds, leafLimit).Run();
+  Collapser(binary, bigLeaves ? split : binary.nodes, bvh_internal::BuildThreads(threads),
+            leafLimit)
       .Run(&result);
   return result;
 }

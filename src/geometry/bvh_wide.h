@@ -21,9 +21,10 @@ struct WideBvhResult {
 };
 
 // Collapses `binary` (as BuildBvh returns it; primBounds are the input primitives' bounds, to
-// split leaves of more than 3 primitives), on `threads` threads (0: all cores, as BvhBuildOptions). Deterministic:
-// the same nodes whatever the thread count.
+// split bigger leaves) into nodes whose leaves hold at most maxLeafPrims primitives (1 to 3),
+// on `threads` threads (0: all cores, as BvhBuildOptions). Deterministic: the same nodes
+// whatever the thread count.
 WideBvhResult CollapseToWide(const BvhBuildResult& binary, const std::vector<Aabb>& primBounds,
-                             int threads = 1);
+                             int threads = 1, int maxLeafPrims = 3);
 
 }  // namespace pt

@@ -101,10 +101,70 @@ PT_HDI_HOT uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t 
 
 }  // namespace detail
 
-// Walks a wide BVH: the current node group (interior hits of a node, plus its child base and
-// interior mask) is consumed highest bit first; the rest of a group waits on the stack. Hit
-// primitives go to the leaf callback; *tMax as in the binary traversal. A stack entry whose mask
-// has no bit above 23 is a postponed primitive group (base, primitive bits).
+namespace detail {
+
+// A wide walk's state: the current node group (interior hits of a node: base = first interior
+// child, mask = interior hit bits 24-31 | interior mask 0-7), the current primitive group, and
+// the groups waiting on a stack of kCapacity entries. A stack entry whose mask has no bit above
+// 23 is a postponed primitive group (base, primitive bits). A step at a time, so that one loop
+// can also walk two levels (traverse_instanced.h).
+template <int kCapacity>
+struct WideWalk {
+  uint32_t stackBase[kCapacity], stackMask[kCapacity];
+  int stackSize = 0, postponed = 0;
+  // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
+  uint32_t groupBase = 0, groupMask = 0x80000000u;
+  uint32_t primBase = 0, primMask = 0;
+
+  PT_HDI_HOT bool HasNode() const { return groupMask > 0x00ffffffu; }
+  PT_HDI_HOT void Restart() {  // at the root of another tree
+    groupBase = 0;
+    groupMask = 0x80000000u;
+  }
+  PT_HDI_HOT void Push(uint32_t base, uint32_t mask) {
+    stackBase[stackSize] = base;
+    stackMask[stackSize] = mask;
+    ++stackSize;
+  }
+  // Takes the group's next interior child (the rest of the group waits on the stack) and tests
+  // it: its interior hits become the group, its primitive hits the primitive group, unless too
+  // few lanes have primitives (PostponePrims).
+  PT_HDI_HOT void VisitNext(const WideBvhNode* nodes, const WideRay& r, float tMax) {
+    const uint32_t index = NextChild(groupBase, &groupMask, r.octInv);
+    if (HasNode() && stackSize < kCapacity) Push(groupBase, groupMask);
+    const WideNodeHits n = TestWideNode(nodes + index, r, tMax);
+    groupBase = n.childBase;
+    groupMask = (n.hits & 0xff000000u) | n.innerMask;
+    primBase = n.primBase;
+    primMask = n.hits & 0x00ffffffu;
+    if (PostponePrims(primMask != 0) && HasNode() && postponed < kWidePostponed &&
+        stackSize < kCapacity) {
+      Push(primBase, primMask);
+      ++postponed;
+      primMask = 0;
+    }
+  }
+  // The next waiting group, once the current one has no interior child left; false when none.
+  PT_HDI_HOT bool Pop() {
+    if (stackSize == 0) return false;
+    --stackSize;
+    if (stackMask[stackSize] > 0x00ffffffu) {
+      groupBase = stackBase[stackSize];
+      groupMask = stackMask[stackSize];
+    } else {  // a postponed primitive group
+      primBase = stackBase[stackSize];
+      primMask = stackMask[stackSize];
+      groupMask = 0;
+      --postponed;
+    }
+    return true;
+  }
+};
+
+}  // namespace detail
+
+// Walks a wide BVH: the current node group is consumed highest bit first; the rest of a group
+// waits on the stack. Hit primitives go to the leaf callback; *tMax as in the binary traversal.
 template <TraceMode kMode, typename LeafFn>
 PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
                      TraversalCounters* counters) {
@@ -112,58 +172,22 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   float tMax = *tMaxInOut;
   const detail::WideRay r = detail::MakeWideRay(ray);
   uint32_t nodesVisited = 0;
-
-  uint32_t stackBase[kWideStackCapacity], stackMask[kWideStackCapacity];
-  int stackSize = 0, postponed = 0;
-  auto push = [&](uint32_t base, uint32_t mask) {
-    stackBase[stackSize] = base;
-    stackMask[stackSize] = mask;
-    ++stackSize;
-  };
-  // A group: base = first interior child, mask = interior hit bits 24-31 | interior mask 0-7.
-  // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
-  uint32_t groupBase = 0, groupMask = 0x80000000u;
-  uint32_t primBase = 0, primMask = 0;
+  detail::WideWalk<kWideStackCapacity> w;
   for (;;) {
-    if (primMask == 0 && groupMask > 0x00ffffffu) {
-      const uint32_t index = detail::NextChild(groupBase, &groupMask, r.octInv);
-      if (groupMask > 0x00ffffffu && stackSize < kWideStackCapacity) push(groupBase, groupMask);
+    if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;
-      const detail::WideNodeHits n = detail::TestWideNode(bvh.nodes + index, r, tMax);
-      groupBase = n.childBase;
-      groupMask = (n.hits & 0xff000000u) | n.innerMask;
-      primBase = n.primBase;
-      primMask = n.hits & 0x00ffffffu;
-      if (detail::PostponePrims(primMask != 0) && groupMask > 0x00ffffffu &&
-          postponed < kWidePostponed && stackSize < kWideStackCapacity) {
-        push(primBase, primMask);
-        ++postponed;
-        primMask = 0;
-      }
+      w.VisitNext(bvh.nodes, r, tMax);
     }
-    while (primMask != 0) {
-      const uint32_t bit = detail::LowestBit(primMask);
-      primMask &= primMask - 1u;
-      if (leaf(primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
-        groupMask = 0;  // done: the stack is dropped below
-        primMask = 0;
-        stackSize = 0;
+    bool done = false;
+    while (w.primMask != 0) {
+      const uint32_t bit = detail::LowestBit(w.primMask);
+      w.primMask &= w.primMask - 1u;
+      if (leaf(w.primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
+        done = true;
         break;
       }
     }
-    if (groupMask <= 0x00ffffffu) {
-      if (stackSize == 0) break;
-      --stackSize;
-      if (stackMask[stackSize] > 0x00ffffffu) {
-        groupBase = stackBase[stackSize];
-        groupMask = stackMask[stackSize];
-      } else {  // a postponed primitive group
-        primBase = stackBase[stackSize];
-        primMask = stackMask[stackSize];
-        groupMask = 0;
-        --postponed;
-      }
-    }
+    if (done || (!w.HasNode() && !w.Pop())) break;
   }
   *tMaxInOut = tMax;
   if (counters) counters->nodes += nodesVisited;

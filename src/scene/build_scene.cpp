@@ -123,7 +123,7 @@ LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unorder
     BvhBuildOptions binary = options;
     binary.maxLeafSize = 1;
     BvhBuildResult bvh = BuildBvh(bounds, binary, kBvhMaxDepth, clip);
-    WideBvhResult wide = CollapseToWide(bvh, bounds, options.threads);
+    WideBvhResult wide = CollapseToWide(bvh, bounds, options.threads, options.maxLeafSize);
     out.wideNodes = std::move(wide.nodes);
     out.sahCost = wide.sahCost;
     out.depth = wide.maxDepth;
