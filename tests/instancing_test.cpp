@@ -163,6 +163,53 @@ TEST(Instancing, TwoLevelHitsMatchBruteForceInObjectAndWorldSpace) {
   }
 }
 
+// 300 overlapping placements in a 6x5x10 block: a top level several wide nodes deep, with many
+// instances a node, where the wide layout's one-loop walk leaves an instance for the next one
+// of a node and for the node's children. Both layouts must find the same nearest hit (t,
+// instance, primitive) as each other, and the occlusion query must agree with it, for rays from
+// inside the block and from outside it.
+TEST(Instancing, ManyOverlappingInstancesGiveTheSameHitsInBothLayouts) {
+  std::string objects;
+  std::mt19937 placeRng(3);
+  std::uniform_real_distribution<float> angle(0.0f, 180.0f), scale(0.6f, 1.4f);
+  for (int i = 0; i < 300; ++i) {
+    const float x = -1.5f + 0.6f * float(i % 6), y = 0.2f + 0.5f * float(i / 6 % 5),
+                z = -2.0f + 0.4f * float(i / 30);
+    objects += R"(, {"type": "instance", "mesh": "small", "transform": {"scale": [)" +
+               std::to_string(scale(placeRng)) + ", " + std::to_string(scale(placeRng)) +
+               ", 1], \"rotate\": [0, " + std::to_string(angle(placeRng)) +
+               R"(, 0], "translate": [)" + std::to_string(x) + ", " + std::to_string(y - 1.6f) +
+               ", " + std::to_string(z) + "]}}";
+  }
+  SceneDesc desc = LoadInstancing(InstancedScene(objects));
+  Scene binary = BuildScene(desc, Layout(BvhLayout::kBinary));
+  Scene wide = BuildScene(desc, Layout(BvhLayout::kWide));
+  SceneView bv = HostSceneView(binary), wv = HostSceneView(wide);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  int hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const vec3 o = i % 2 ? vec3(2.0f * u(rng), 1.2f + 1.2f * u(rng), 2.5f * u(rng))
+                         : vec3(3.0f * u(rng), 1.2f + 2.0f * u(rng), 4.0f);
+    const vec3 d = glm::normalize(i % 2 ? vec3(u(rng), u(rng), u(rng))
+                                        : vec3(0.5f * u(rng), 0.5f * u(rng), -1.0f));
+    const Ray ray{o, d};
+    HitRecord a, b;
+    const bool foundA = IntersectClosest(bv, ray, kInfinity, &a, nullptr);
+    const bool foundB = IntersectClosest(wv, ray, kInfinity, &b, nullptr);
+    ASSERT_EQ(foundA, foundB) << "ray " << i;
+    EXPECT_EQ(IntersectAny(wv, ray, kInfinity, nullptr), foundB) << "ray " << i;
+    if (!foundA) continue;
+    ++hits;
+    ASSERT_EQ(a.t, b.t) << "ray " << i;
+    EXPECT_EQ(a.instance, b.instance) << "ray " << i;
+    EXPECT_EQ(binary.prims[a.prim].tagIndex, wide.prims[b.prim].tagIndex) << "ray " << i;
+    EXPECT_TRUE(IntersectAny(wv, ray, b.t * 1.001f, nullptr)) << "ray " << i;
+    EXPECT_FALSE(IntersectAny(wv, ray, b.t * 0.999f, nullptr)) << "ray " << i;
+  }
+  EXPECT_GT(hits, 1000);
+}
+
 // What a fresh build and a moved-then-rebuilt scene must share: the top level, the instance
 // table and the light distribution (scaling an emissive instance changes its lights' power).
 void ExpectSameTopLevel(const Scene& a, const Scene& b) {

@@ -152,7 +152,8 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
   int instanceStack = -1;  // the stack size on entering the current instance; -1: top level
   uint32_t instance = 0, primOffset = 0, nodesVisited = 0;
   bool instanceHit = false;
-  detail::WideWalk<kTwoLevelStackCapacity> w;
+  detail::WideStack<kTwoLevelStackCapacity> stack;
+  detail::WideWalk<kTwoLevelStackCapacity> w(stack);
   for (;;) {
     if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;

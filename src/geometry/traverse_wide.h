@@ -103,27 +103,35 @@ PT_HDI_HOT uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t 
 
 namespace detail {
 
+// The groups waiting in a wide walk. Kept apart from WideWalk's scalars: an array indexed at
+// run time lives in local memory on the GPU, and in one struct it took the scalars there too.
+template <int kCapacity>
+struct WideStack {
+  uint32_t base[kCapacity], mask[kCapacity];
+};
+
 // A wide walk's state: the current node group (interior hits of a node: base = first interior
 // child, mask = interior hit bits 24-31 | interior mask 0-7), the current primitive group, and
-// the groups waiting on a stack of kCapacity entries. A stack entry whose mask has no bit above
-// 23 is a postponed primitive group (base, primitive bits). A step at a time, so that one loop
-// can also walk two levels (traverse_instanced.h).
+// the groups waiting on the stack. A stack entry whose mask has no bit above 23 is a postponed
+// primitive group (base, primitive bits). A step at a time, so that one loop can also walk two
+// levels (traverse_instanced.h).
 template <int kCapacity>
 struct WideWalk {
-  uint32_t stackBase[kCapacity], stackMask[kCapacity];
+  WideStack<kCapacity>& stack;
   int stackSize = 0, postponed = 0;
   // The root is the one child of a virtual group (base 0, empty interior mask: index 0).
   uint32_t groupBase = 0, groupMask = 0x80000000u;
   uint32_t primBase = 0, primMask = 0;
 
+  PT_HDI_HOT explicit WideWalk(WideStack<kCapacity>& s) : stack(s) {}
   PT_HDI_HOT bool HasNode() const { return groupMask > 0x00ffffffu; }
   PT_HDI_HOT void Restart() {  // at the root of another tree
     groupBase = 0;
     groupMask = 0x80000000u;
   }
   PT_HDI_HOT void Push(uint32_t base, uint32_t mask) {
-    stackBase[stackSize] = base;
-    stackMask[stackSize] = mask;
+    stack.base[stackSize] = base;
+    stack.mask[stackSize] = mask;
     ++stackSize;
   }
   // Takes the group's next interior child (the rest of the group waits on the stack) and tests
@@ -148,12 +156,12 @@ struct WideWalk {
   PT_HDI_HOT bool Pop() {
     if (stackSize == 0) return false;
     --stackSize;
-    if (stackMask[stackSize] > 0x00ffffffu) {
-      groupBase = stackBase[stackSize];
-      groupMask = stackMask[stackSize];
+    if (stack.mask[stackSize] > 0x00ffffffu) {
+      groupBase = stack.base[stackSize];
+      groupMask = stack.mask[stackSize];
     } else {  // a postponed primitive group
-      primBase = stackBase[stackSize];
-      primMask = stackMask[stackSize];
+      primBase = stack.base[stackSize];
+      primMask = stack.mask[stackSize];
       groupMask = 0;
       --postponed;
     }
@@ -172,7 +180,8 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   float tMax = *tMaxInOut;
   const detail::WideRay r = detail::MakeWideRay(ray);
   uint32_t nodesVisited = 0;
-  detail::WideWalk<kWideStackCapacity> w;
+  detail::WideStack<kWideStackCapacity> stack;
+  detail::WideWalk<kWideStackCapacity> w(stack);
   for (;;) {
     if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;
