@@ -38,7 +38,10 @@ timeout 120 $B --scene benchmarks/scenes/bunny_cornell.json --scene benchmarks/s
   --out "$TMP/scenes"
 timeout 60 $B --scene benchmarks/scenes/bunny_cornell.json --out "$TMP/primary" -- --max-depth 0
 timeout 150 $B --scene benchmarks/scenes/breakfast_room_bunnies.json --out "$TMP/large"
-for part in pbrt scenes primary large; do
+# Instanced: 10^4 bunnies through the two-level walk (both levels in the chosen layout).
+python3 benchmarks/scenes/make_bunny_field.py > /dev/null
+timeout 150 $B --scene benchmarks/scenes/bunny_field_10k.json --out "$TMP/instanced" -- --spp 64
+for part in pbrt scenes primary large instanced; do
   [ -f "$TMP/$part.md" ] && { echo "## $part"; cat "$TMP/$part.md"; echo; } >> "$OUT/bench.md"
   # The header once: the first part's file is copied whole, the others without their first line.
   if [ -f "$TMP/$part.csv" ]; then

@@ -4,6 +4,7 @@
 // hits, and moving an instance then rebuilding the top level equals building afresh.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -164,10 +165,10 @@ TEST(Instancing, TwoLevelHitsMatchBruteForceInObjectAndWorldSpace) {
 }
 
 // 300 overlapping placements in a 6x5x10 block: a top level several wide nodes deep, with many
-// instances a node, where the wide layout's one-loop walk leaves an instance for the next one
-// of a node and for the node's children. Both layouts must find the same nearest hit (t,
-// instance, primitive) as each other, and the occlusion query must agree with it, for rays from
-// inside the block and from outside it.
+// instances a node, where the one-loop walks leave an instance for the next one of a node or
+// leaf and for the node's children. Both layouts must find the same nearest hit (t, instance,
+// primitive), and the occlusion query must agree with it, for rays from inside and outside the
+// block; with the top level's leaves of one instance (the default) and of up to four.
 TEST(Instancing, ManyOverlappingInstancesGiveTheSameHitsInBothLayouts) {
   std::string objects;
   std::mt19937 placeRng(3);
@@ -182,32 +183,42 @@ TEST(Instancing, ManyOverlappingInstancesGiveTheSameHitsInBothLayouts) {
                ", " + std::to_string(z) + "]}}";
   }
   SceneDesc desc = LoadInstancing(InstancedScene(objects));
-  Scene binary = BuildScene(desc, Layout(BvhLayout::kBinary));
-  Scene wide = BuildScene(desc, Layout(BvhLayout::kWide));
-  SceneView bv = HostSceneView(binary), wv = HostSceneView(wide);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  int hits = 0;
-  for (int i = 0; i < 3000; ++i) {
-    const vec3 o = i % 2 ? vec3(2.0f * u(rng), 1.2f + 1.2f * u(rng), 2.5f * u(rng))
-                         : vec3(3.0f * u(rng), 1.2f + 2.0f * u(rng), 4.0f);
-    const vec3 d = glm::normalize(i % 2 ? vec3(u(rng), u(rng), u(rng))
-                                        : vec3(0.5f * u(rng), 0.5f * u(rng), -1.0f));
-    const Ray ray{o, d};
-    HitRecord a, b;
-    const bool foundA = IntersectClosest(bv, ray, kInfinity, &a, nullptr);
-    const bool foundB = IntersectClosest(wv, ray, kInfinity, &b, nullptr);
-    ASSERT_EQ(foundA, foundB) << "ray " << i;
-    EXPECT_EQ(IntersectAny(wv, ray, kInfinity, nullptr), foundB) << "ray " << i;
-    if (!foundA) continue;
-    ++hits;
-    ASSERT_EQ(a.t, b.t) << "ray " << i;
-    EXPECT_EQ(a.instance, b.instance) << "ray " << i;
-    EXPECT_EQ(binary.prims[a.prim].tagIndex, wide.prims[b.prim].tagIndex) << "ray " << i;
-    EXPECT_TRUE(IntersectAny(wv, ray, b.t * 1.001f, nullptr)) << "ray " << i;
-    EXPECT_FALSE(IntersectAny(wv, ray, b.t * 0.999f, nullptr)) << "ray " << i;
+  for (int leafSize : {1, 4}) {
+    BvhBuildOptions binaryOptions = Layout(BvhLayout::kBinary), wideOptions = Layout(BvhLayout::kWide);
+    binaryOptions.topLevelLeafSize = wideOptions.topLevelLeafSize = leafSize;
+    Scene binary = BuildScene(desc, binaryOptions);
+    Scene wide = BuildScene(desc, wideOptions);
+    uint32_t largestLeaf = 0;
+    for (const BvhNode& n : binary.tlasNodes) largestLeaf = std::max(largestLeaf, n.IsLeaf() ? n.count : 0u);
+    EXPECT_EQ(largestLeaf > 1u, leafSize > 1) << "top-level leaves of up to " << leafSize;
+    SceneView bv = HostSceneView(binary), wv = HostSceneView(wide);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int hits = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const vec3 o = i % 2 ? vec3(2.0f * u(rng), 1.2f + 1.2f * u(rng), 2.5f * u(rng))
+                           : vec3(3.0f * u(rng), 1.2f + 2.0f * u(rng), 4.0f);
+      const vec3 d = glm::normalize(i % 2 ? vec3(u(rng), u(rng), u(rng))
+                                          : vec3(0.5f * u(rng), 0.5f * u(rng), -1.0f));
+      const Ray ray{o, d};
+      HitRecord a, b;
+      const bool foundA = IntersectClosest(bv, ray, kInfinity, &a, nullptr);
+      const bool foundB = IntersectClosest(wv, ray, kInfinity, &b, nullptr);
+      ASSERT_EQ(foundA, foundB) << "ray " << i << ", leaves of " << leafSize;
+      EXPECT_EQ(IntersectAny(bv, ray, kInfinity, nullptr), foundA) << "ray " << i;
+      EXPECT_EQ(IntersectAny(wv, ray, kInfinity, nullptr), foundB) << "ray " << i;
+      if (!foundA) continue;
+      ++hits;
+      ASSERT_EQ(a.t, b.t) << "ray " << i << ", leaves of " << leafSize;
+      EXPECT_EQ(a.instance, b.instance) << "ray " << i;
+      EXPECT_EQ(binary.prims[a.prim].tagIndex, wide.prims[b.prim].tagIndex) << "ray " << i;
+      for (const SceneView* v : {&bv, &wv}) {
+        EXPECT_TRUE(IntersectAny(*v, ray, b.t * 1.001f, nullptr)) << "ray " << i;
+        EXPECT_FALSE(IntersectAny(*v, ray, b.t * 0.999f, nullptr)) << "ray " << i;
+      }
+    }
+    EXPECT_GT(hits, 1000);
   }
-  EXPECT_GT(hits, 1000);
 }
 
 // What a fresh build and a moved-then-rebuilt scene must share: the top level, the instance

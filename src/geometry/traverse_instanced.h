@@ -1,7 +1,8 @@
 // Two-level traversal for scenes with instances: the top level is a BVH over the instances'
-// world bounds; its leaf callback moves the ray into each instance's object space and walks
-// that mesh's own BVH (the bottom level). Both levels use the scene's layout (--bvh), through
-// the single-level Traverse of traverse_binary.h / traverse_wide.h.
+// world bounds; at its leaves the ray moves into each instance's object space and walks that
+// mesh's own BVH (the bottom level). Both levels use the scene's layout (--bvh), in one loop
+// per layout over one stack (InstanceLevel), with the node steps of traverse_wide.h (WideWalk)
+// and the binary walk's rules of traverse_binary.h.
 //
 // The closest hit does not depend on the order of visits: of hits at exactly the same
 // distance, the smaller (instance, PrimRef::tagIndex) wins, as tagIndex alone does in a flat
@@ -15,20 +16,6 @@
 #include "src/geometry/traverse_wide.h"
 
 namespace pt {
-
-// The bottom level of an instance and the top level, in layout L. A bottom level is never empty
-// (meshes without triangles are not placed), so its node count is only a non-zero marker.
-template <BvhLayout L>
-PT_HDI auto InstanceBvh(const SceneView& s, const Instance& inst) {
-  if constexpr (L == BvhLayout::kWide) return WideBvh{s.wideNodes + inst.nodeOffset, 1u};
-  else return BinaryBvh{s.nodes + inst.nodeOffset, 1u};
-}
-
-template <BvhLayout L>
-PT_HDI auto TopLevelBvh(const SceneView& s) {
-  if constexpr (L == BvhLayout::kWide) return WideBvh{s.tlasWideNodes, s.tlasNodeCount};
-  else return BinaryBvh{s.tlasNodes, s.tlasNodeCount};
-}
 
 // The nearest hit over all instances so far (or the first, for any-hit queries).
 struct InstancedBest {
@@ -70,96 +57,82 @@ PT_HDI bool TestBottomPrim(const SceneView& s, uint32_t i, const Ray& ray,
   return true;
 }
 
-// Bottom-level leaf callback: the mesh's primitives from primOffset, against the object-space ray.
-template <TraceMode kMode>
-struct BottomLeaf {
-  const SceneView& s;
-  const Ray& ray;
-  TriangleRayData triRay;
-  uint32_t primOffset;
-  uint32_t instance;
-  InstancedBest& best;
+// The level a two-level walk is on: the top one (the world ray) or, after Enter, an instance's
+// tree, walked with the object-space ray and distances less dt. Both layouts' walks keep one
+// of these and their one stack: the instance's entries go above the top level's, and the walk
+// returns to the top level when the stack is back at the mark Enter set. So the lanes of a GPU
+// warp run the same node tests together whichever level each is on (a walk whose leaves ran
+// another walk kept the top level's lanes waiting out the others' whole bottom walks, and held
+// both levels' state at once).
+struct InstanceLevel {
+  const Ray& worldRay;
+  float worldTMax;
+  Ray ray;          // the current level's ray
+  float tMax;       // the current level's limit (world tMax - dt in an instance)
+  float dt = 0.0f;
+  TriangleRayData triRay{};
+  uint32_t instance = 0, primOffset = 0, nodeOffset = 0;
+  int mark = -1;    // the stack size when the instance was entered; -1: the top level
+  bool hit = false;  // a hit was taken in this instance
 
-  PT_HDI BottomLeaf(const SceneView& scene, const Ray& r, uint32_t offset, uint32_t inst,
-                    InstancedBest& b)
-      : s(scene), ray(r), triRay(TriangleRayData::Make(r.d)), primOffset(offset), instance(inst),
-        best(b) {}
-
-  PT_HDI bool operator()(uint32_t first, uint32_t count, float* tMax) {
-    bool found = false;
-    for (uint32_t i = primOffset + first, end = i + count; i < end; ++i) {
-      if (!TestBottomPrim<kMode>(s, i, ray, triRay, instance, best, tMax)) continue;
-      if (kMode == TraceMode::kAny) return true;
-      found = true;
-    }
-    return found;
+  PT_HDI InstanceLevel(const Ray& world, float worldLimit)
+      : worldRay(world), worldTMax(worldLimit), ray(world), tMax(worldLimit) {}
+  PT_HDI bool InInstance() const { return mark >= 0; }
+  // Enters instance id with the stack at stackSize; false (staying on the top level) when its
+  // object-space ray is not traceable.
+  PT_HDI bool Enter(const SceneView& s, uint32_t id, int stackSize) {
+    const Instance& inst = s.instances[id];
+    float shift = 0.0f;
+    const Ray r = (inst.flags & kInstanceIdentity) ? worldRay : ObjectRay(inst, worldRay, &shift);
+    if (!TraceableRay(r)) return false;
+    ray = r;
+    dt = shift;
+    triRay = TriangleRayData::Make(r.d);
+    tMax = worldTMax - dt;
+    instance = id;
+    primOffset = inst.primOffset;
+    nodeOffset = inst.nodeOffset;
+    mark = stackSize;
+    hit = false;
+    return true;
+  }
+  // Back to the top level, the instance's hit (if any) limiting the world ray.
+  PT_HDI void Leave() {
+    if (hit) worldTMax = fminf(tMax + dt, worldTMax);
+    ray = worldRay;
+    tMax = worldTMax;
+    mark = -1;
+  }
+  // The instance's primitive `first + i` of its mesh; true when taken (TestBottomPrim).
+  template <TraceMode kMode>
+  PT_HDI bool TestPrim(const SceneView& s, uint32_t i, InstancedBest& best) {
+    if (!TestBottomPrim<kMode>(s, primOffset + i, ray, triRay, instance, best, &tMax)) return false;
+    hit = true;
+    return true;
   }
 };
 
-// Top-level leaf callback: each instance of the leaf, its bottom level walked in object space.
-template <BvhLayout L, TraceMode kMode>
-struct InstanceLeaf {
-  const SceneView& s;
-  const Ray& ray;
-  TraversalCounters* counters;
-  InstancedBest& best;
-
-  PT_HDI InstanceLeaf(const SceneView& scene, const Ray& r, TraversalCounters* c, InstancedBest& b)
-      : s(scene), ray(r), counters(c), best(b) {}
-
-  PT_HDI bool operator()(uint32_t first, uint32_t count, float* tMax) {
-    bool found = false;
-    for (uint32_t slot = first; slot < first + count; ++slot) {
-      uint32_t id = s.instanceOrder[slot];
-      const Instance& inst = s.instances[id];
-      float dt = 0.0f;
-      Ray r = (inst.flags & kInstanceIdentity) ? ray : ObjectRay(inst, ray, &dt);
-      float t = *tMax - dt;
-      uint32_t before = best.prim;
-      uint32_t beforeInstance = best.instance;
-      BottomLeaf<kMode> leaf(s, r, inst.primOffset, id, best);
-      Traverse<kMode>(InstanceBvh<L>(s, inst), r, &t, leaf, counters);
-      if (best.prim == before && best.instance == beforeInstance) continue;
-      if (kMode == TraceMode::kAny) return true;
-      *tMax = fminf(t + dt, *tMax);
-      found = true;
-    }
-    return found;
-  }
-};
-
-// The wide layout's two levels in one loop over one stack: a top-level primitive enters its
-// instance (the node's other instances and interior children wait on the stack, above which
-// the instance's own groups go), and the walk returns to the top level when the stack is back
-// to where it was. Hits, culling and their order are those of the nested walk (InstanceLeaf in
-// a Traverse); but on the GPU the lanes of a warp, whichever level each is on, run the same
-// node test together instead of the top level waiting for the others' whole bottom walks, and
-// only one level's ray is live at a time.
+// Both levels of the wide layout in one loop (see InstanceLevel): a top-level primitive enters
+// its instance, while the node's other instances and its interior children wait on the stack.
+// Hits, culling and their order are those of a walk whose leaves walk their instances.
 constexpr int kTwoLevelStackCapacity = 2 * kWideStackCapacity + 2;
 
 template <TraceMode kMode>
 PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float* tMaxInOut,
                                   InstancedBest& best, TraversalCounters* counters) {
-  if (!TraceableRay(worldRay)) return;
   const detail::WideRay worldR = detail::MakeWideRay(worldRay);
-  float worldTMax = *tMaxInOut;
-  // The level being walked. In an instance: its nodes, the object-space ray, distances less dt.
+  InstanceLevel level(worldRay, *tMaxInOut);
   const WideBvhNode* nodes = s.tlasWideNodes;
-  Ray ray = worldRay;
   detail::WideRay r = worldR;
-  TriangleRayData triRay{};
-  float tMax = worldTMax, dt = 0.0f;
-  int instanceStack = -1;  // the stack size on entering the current instance; -1: top level
-  uint32_t instance = 0, primOffset = 0, nodesVisited = 0;
-  bool instanceHit = false;
+  uint32_t nodesVisited = 0;
   detail::WideStack<kTwoLevelStackCapacity> stack;
   detail::WideWalk<kTwoLevelStackCapacity> w(stack);
   for (;;) {
     if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;
-      w.VisitNext(nodes, r, tMax);
+      w.VisitNext(nodes, r, level.tMax);
     }
-    if (instanceStack < 0 && w.primMask != 0) {  // enter the group's next instance
+    if (!level.InInstance() && w.primMask != 0) {  // enter the group's next instance
       const uint32_t bit = detail::LowestBit(w.primMask);
       const uint32_t rest = w.primMask & (w.primMask - 1u);
       if (w.HasNode()) w.Push(w.groupBase, w.groupMask);
@@ -167,20 +140,11 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
         w.Push(w.primBase, rest);
         ++w.postponed;
       }
-      instance = s.instanceOrder[w.primBase + bit];
       w.primMask = 0;
       w.groupMask = 0;
-      const Instance& inst = s.instances[instance];
-      dt = 0.0f;
-      ray = (inst.flags & kInstanceIdentity) ? worldRay : ObjectRay(inst, worldRay, &dt);
-      if (TraceableRay(ray)) {
-        r = detail::MakeWideRay(ray);
-        triRay = TriangleRayData::Make(ray.d);
-        tMax = worldTMax - dt;
-        nodes = s.wideNodes + inst.nodeOffset;
-        primOffset = inst.primOffset;
-        instanceStack = w.stackSize;
-        instanceHit = false;
+      if (level.Enter(s, s.instanceOrder[w.primBase + bit], w.stackSize)) {
+        r = detail::MakeWideRay(level.ray);
+        nodes = s.wideNodes + level.nodeOffset;
         w.Restart();
       }
     }
@@ -188,41 +152,122 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
     while (w.primMask != 0) {  // in an instance: its primitives
       const uint32_t bit = detail::LowestBit(w.primMask);
       w.primMask &= w.primMask - 1u;
-      if (!TestBottomPrim<kMode>(s, primOffset + w.primBase + bit, ray, triRay, instance, best,
-                                 &tMax))
-        continue;
-      instanceHit = true;
-      if (kMode == TraceMode::kAny) done = true;
-      if (done) break;
+      if (level.TestPrim<kMode>(s, w.primBase + bit, best) && kMode == TraceMode::kAny) {
+        done = true;
+        break;
+      }
     }
     if (done) break;
     if (w.HasNode()) continue;
-    if (w.stackSize == instanceStack) {  // the instance is done: back to the top level
-      if (instanceHit) worldTMax = fminf(tMax + dt, worldTMax);
+    if (level.InInstance() && w.stackSize == level.mark) {  // back to the top level
+      level.Leave();
       nodes = s.tlasWideNodes;
-      ray = worldRay;
       r = worldR;
-      tMax = worldTMax;
-      instanceStack = -1;
     }
     if (!w.Pop()) break;
   }
-  *tMaxInOut = worldTMax;
+  *tMaxInOut = level.worldTMax;
   if (counters) counters->nodes += nodesVisited;
 }
 
-// Every instance's primitives against the world ray, into best: the wide layout in one loop, the
-// binary one as a Traverse whose leaves walk their instances' trees.
+// Both levels of the binary layout in one loop (see InstanceLevel). A top-level leaf enters its
+// first instance; the leaf's others wait as one stack entry (kEnterBit | slot, the count of
+// instances left in place of a distance), taken whatever the distance, as a walk whose leaves
+// walk their instances tests every instance of a leaf.
+constexpr int kTwoLevelBinaryStackSize = 2 * kBvhStackSize + 1;
+
+template <TraceMode kMode>
+PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, float* tMaxInOut,
+                                    InstancedBest& best, TraversalCounters* counters) {
+  constexpr uint32_t kEnterBit = 0x80000000u;
+  const vec3 worldInvDir(1.0f / worldRay.d.x, 1.0f / worldRay.d.y, 1.0f / worldRay.d.z);
+  InstanceLevel level(worldRay, *tMaxInOut);
+  const BvhNode* nodes = s.tlasNodes;
+  vec3 invDir = worldInvDir;
+  uint32_t nodesVisited = 0, stackNode[kTwoLevelBinaryStackSize];
+  float stackT[kTwoLevelBinaryStackSize];
+  int stackSize = 0;
+  auto push = [&](uint32_t entry, float t) {
+    stackNode[stackSize] = entry;
+    stackT[stackSize] = t;
+    ++stackSize;
+  };
+  uint32_t node = 0, leafLeft = 0;  // leafLeft: instances of the leaf from slot node & ~kEnterBit
+  float tEntry;
+  bool active = IntersectAabb(nodes[0].boundsMin, nodes[0].boundsMax, worldRay.o, invDir,
+                              level.tMax, &tEntry);
+  while (active) {
+    if (node & kEnterBit) {  // the top level's instance in slot `node & ~kEnterBit`
+      const uint32_t slot = node & ~kEnterBit;
+      if (leafLeft > 1) push(kEnterBit | (slot + 1), float(leafLeft - 1));
+      if (level.Enter(s, s.instanceOrder[slot], stackSize)) {
+        nodes = s.nodes + level.nodeOffset;
+        const vec3 d = level.ray.d;
+        invDir = vec3(1.0f / d.x, 1.0f / d.y, 1.0f / d.z);
+        node = 0;
+        if (IntersectAabb(nodes[0].boundsMin, nodes[0].boundsMax, level.ray.o, invDir,
+                          level.tMax, &tEntry))
+          continue;
+      }
+    } else {
+      ++nodesVisited;
+      const BvhNode& n = nodes[node];
+      if (n.IsLeaf() && !level.InInstance()) {
+        node = kEnterBit | n.leftOrFirst;
+        leafLeft = n.count;
+        continue;
+      }
+      if (n.IsLeaf()) {
+        bool done = false;
+        for (uint32_t i = n.leftOrFirst; i < n.leftOrFirst + n.count && !done; ++i)
+          done = level.TestPrim<kMode>(s, i, best) && kMode == TraceMode::kAny;
+        if (done) break;
+      } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior, as Traverse(BinaryBvh)
+        const uint32_t left = n.leftOrFirst;
+        float tl = 0.0f, tr = 0.0f;
+        const bool hitL = IntersectAabb(nodes[left].boundsMin, nodes[left].boundsMax,
+                                        level.ray.o, invDir, level.tMax, &tl);
+        const bool hitR = IntersectAabb(nodes[left + 1].boundsMin, nodes[left + 1].boundsMax,
+                                        level.ray.o, invDir, level.tMax, &tr);
+        if (hitL && hitR) {
+          const bool leftFirst = tl <= tr;
+          if (stackSize < kTwoLevelBinaryStackSize)  // always (one entry per level, as Traverse)
+            push(leftFirst ? left + 1 : left, leftFirst ? tr : tl);
+          node = leftFirst ? left : left + 1;
+          continue;
+        }
+        if (hitL || hitR) {
+          node = hitL ? left : left + 1;
+          continue;
+        }
+      }
+    }
+    // The nearest waiting entry that may still hold something closer than tMax.
+    active = false;
+    while (!active) {
+      if (level.InInstance() && stackSize == level.mark) {  // back to the top level
+        level.Leave();
+        nodes = s.tlasNodes;
+        invDir = worldInvDir;
+      }
+      if (stackSize == 0) break;
+      --stackSize;
+      node = stackNode[stackSize];
+      if (node & kEnterBit) leafLeft = uint32_t(stackT[stackSize]);
+      active = (node & kEnterBit) || stackT[stackSize] <= level.tMax * kAabbFarScale;
+    }
+  }
+  *tMaxInOut = level.worldTMax;
+  if (counters) counters->nodes += nodesVisited;
+}
+
+// Every instance's primitives against the world ray, into best, in layout L.
 template <BvhLayout L, TraceMode kMode>
 PT_HDI void TraverseInstances(const SceneView& s, const Ray& ray, float* tMax, InstancedBest& best,
                               TraversalCounters* counters) {
-  if (s.instanceCount == 0) return;
-  if constexpr (L == BvhLayout::kWide) {
-    TraverseInstancedWide<kMode>(s, ray, tMax, best, counters);
-  } else {
-    InstanceLeaf<L, kMode> leaf(s, ray, counters, best);
-    Traverse<kMode>(TopLevelBvh<L>(s), ray, tMax, leaf, counters);
-  }
+  if (s.instanceCount == 0 || !TraceableRay(ray)) return;
+  if constexpr (L == BvhLayout::kWide) TraverseInstancedWide<kMode>(s, ray, tMax, best, counters);
+  else TraverseInstancedBinary<kMode>(s, ray, tMax, best, counters);
 }
 
 // Nearest hit over every instance with 0 < t < tMax (as IntersectClosest in a flat scene),

@@ -158,9 +158,7 @@ void BuildTopLevel(Scene& scene) {
   }
   BvhBuildOptions options = scene.bvhOptions;
   options.builder = BvhBuilder::kSah;  // spatial splits would visit an instance twice
-  // One instance a leaf: testing an instance is a whole bottom-level walk, far dearer than the
-  // node test that a leaf of several would save (benchmarks/RESULTS.md, 2026-11-26).
-  options.maxLeafSize = 1;
+  options.maxLeafSize = options.topLevelLeafSize;
   LayoutBvh bvh = BuildLayoutBvh(scene.desc, {}, boxes, options);
   scene.tlasNodes = std::move(bvh.nodes);
   scene.tlasWideNodes = std::move(bvh.wideNodes);

@@ -161,6 +161,9 @@ enum class BvhBuilder : uint32_t {
 
 struct BvhBuildOptions {
   int maxLeafSize = 4;  // binary layout (the wide layout's leaves hold at most 3)
+  // The top level's leaves (instances): one by default, an instance's test being a whole
+  // bottom-level walk, far dearer than the node test a bigger leaf saves. Tests vary it.
+  int topLevelLeafSize = 1;
   int binCount = 16;
   BvhBuilder builder = BvhBuilder::kSah;
   BvhLayout layout = BvhLayout::kBinary;
