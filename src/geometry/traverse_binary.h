@@ -43,6 +43,32 @@ struct BinaryBvh {
 
 PT_HDI BinaryBvh SceneBinaryBvh(const SceneView& s) { return BinaryBvh{s.nodes, s.nodeCount}; }
 
+namespace detail {
+
+// The step at an interior node whose children are nodes[left] and nodes[left + 1]: the nearer
+// child the ray enters within tMax becomes *node and, when it enters both, the farther goes to
+// push(child, entry distance). False when it enters neither.
+template <typename PushFn>
+PT_HDI_HOT bool StepIntoChildren(const BvhNode* nodes, uint32_t left, const vec3& o,
+                                 const vec3& invDir, float tMax, uint32_t* node, PushFn& push) {
+  const BvhNode& l = nodes[left];
+  const BvhNode& r = nodes[left + 1];
+  float tl = 0.0f, tr = 0.0f;  // read only where their test hit (and set them)
+  const bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, o, invDir, tMax, &tl);
+  const bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, o, invDir, tMax, &tr);
+  if (hitL && hitR) {
+    const bool leftFirst = tl <= tr;
+    push(leftFirst ? left + 1 : left, leftFirst ? tr : tl);
+    *node = leftFirst ? left : left + 1;
+    return true;
+  }
+  if (!hitL && !hitR) return false;
+  *node = hitL ? left : left + 1;
+  return true;
+}
+
+}  // namespace detail
+
 // Walks a binary BVH front to back (nearer child first) with a fixed-size stack (no allocation,
 // no recursion). *tMax is the ray's extent on entry and the callback's last lowering on return.
 template <TraceMode kMode, typename LeafFn>
@@ -69,26 +95,14 @@ PT_HDI void Traverse(const BinaryBvh& bvh, const Ray& ray, float* tMaxInOut, Lea
     if (n.IsLeaf()) {
       if (leaf(n.leftOrFirst, n.count, &tMax) && kMode == TraceMode::kAny) break;
     } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior (a 0-count root is empty)
-      uint32_t left = n.leftOrFirst;
-      const BvhNode& l = nodes[left];
-      const BvhNode& r = nodes[left + 1];
-      float tl = 0.0f, tr = 0.0f;  // read only where their test hit (and set them)
-      bool hitL = IntersectAabb(l.boundsMin, l.boundsMax, ray.o, invDir, tMax, &tl);
-      bool hitR = IntersectAabb(r.boundsMin, r.boundsMax, ray.o, invDir, tMax, &tr);
-      if (hitL && hitR) {
-        bool leftFirst = tl <= tr;
+      auto push = [&](uint32_t child, float t) {
         if (stackSize < kBvhStackSize) {  // always true for BuildBvh's trees (see above)
-          stackNode[stackSize] = leftFirst ? left + 1 : left;
-          stackT[stackSize] = leftFirst ? tr : tl;
+          stackNode[stackSize] = child;
+          stackT[stackSize] = t;
           ++stackSize;
         }
-        node = leftFirst ? left : left + 1;
-        continue;
-      }
-      if (hitL || hitR) {
-        node = hitL ? left : left + 1;
-        continue;
-      }
+      };
+      if (detail::StepIntoChildren(nodes, n.leftOrFirst, ray.o, invDir, tMax, &node, push)) continue;
     }
     // Pop the nearest pending node that may still hold something closer than tMax.
     active = false;

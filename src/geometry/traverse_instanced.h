@@ -188,6 +188,7 @@ PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, flo
   float stackT[kTwoLevelBinaryStackSize];
   int stackSize = 0;
   auto push = [&](uint32_t entry, float t) {
+    if (stackSize == kTwoLevelBinaryStackSize) return;  // never: one entry a level, as Traverse
     stackNode[stackSize] = entry;
     stackT[stackSize] = t;
     ++stackSize;
@@ -222,24 +223,10 @@ PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, flo
         for (uint32_t i = n.leftOrFirst; i < n.leftOrFirst + n.count && !done; ++i)
           done = level.TestPrim<kMode>(s, i, best) && kMode == TraceMode::kAny;
         if (done) break;
-      } else if (n.count == 0 && n.leftOrFirst != 0) {  // interior, as Traverse(BinaryBvh)
-        const uint32_t left = n.leftOrFirst;
-        float tl = 0.0f, tr = 0.0f;
-        const bool hitL = IntersectAabb(nodes[left].boundsMin, nodes[left].boundsMax,
-                                        level.ray.o, invDir, level.tMax, &tl);
-        const bool hitR = IntersectAabb(nodes[left + 1].boundsMin, nodes[left + 1].boundsMax,
-                                        level.ray.o, invDir, level.tMax, &tr);
-        if (hitL && hitR) {
-          const bool leftFirst = tl <= tr;
-          if (stackSize < kTwoLevelBinaryStackSize)  // always (one entry per level, as Traverse)
-            push(leftFirst ? left + 1 : left, leftFirst ? tr : tl);
-          node = leftFirst ? left : left + 1;
-          continue;
-        }
-        if (hitL || hitR) {
-          node = hitL ? left : left + 1;
-          continue;
-        }
+      } else if (n.count == 0 && n.leftOrFirst != 0 &&  // interior, as Traverse(BinaryBvh)
+                 detail::StepIntoChildren(nodes, n.leftOrFirst, level.ray.o, invDir, level.tMax,
+                                          &node, push)) {
+        continue;
       }
     }
     // The nearest waiting entry that may still hold something closer than tMax.
