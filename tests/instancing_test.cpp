@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -218,6 +219,17 @@ TEST(Instancing, ManyOverlappingInstancesGiveTheSameHitsInBothLayouts) {
       }
     }
     EXPECT_GT(hits, 1000);
+    // Rays with a NaN or infinite component find nothing and stop (the walks never start).
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = kInfinity;
+    for (const Ray& bad : {Ray{vec3(nan, 1.0f, 4.0f), vec3(0.0f, 0.0f, -1.0f)},
+                           Ray{vec3(0.0f, 1.0f, 4.0f), vec3(0.0f, nan, -1.0f)},
+                           Ray{vec3(0.0f, 1.0f, inf), vec3(0.0f, 0.0f, -1.0f)}}) {
+      for (const SceneView* v : {&bv, &wv}) {
+        HitRecord h;
+        EXPECT_FALSE(IntersectClosest(*v, bad, kInfinity, &h, nullptr));
+        EXPECT_FALSE(IntersectAny(*v, bad, kInfinity, nullptr));
+      }
+    }
   }
 }
 
