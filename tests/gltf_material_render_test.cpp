@@ -164,6 +164,21 @@ TEST(GltfMaterialRender, AlphaCutoffAndCullingLetShadowRaysThrough) {
   EXPECT_EQ(std::memcmp(up.rgb.data(), none.rgb.data(), up.rgb.size() * sizeof(float)), 0);
 }
 
+// The same through an instance (identity placement: bit for bit the flat scene's image), so the
+// instanced traversal runs the hit test when a material asks for it and culls back faces.
+TEST(GltfMaterialRender, AlphaCutoffAndCullingHoldForInstancedMeshes) {
+  std::string dir = TempDir();
+  SceneSpec spec;
+  for (const char* mode : {"mask", "up", "down"}) {
+    Scene instanced = AlphaShadowScene(dir, mode, spec, true);
+    ASSERT_TRUE(instanced.HasInstances()) << mode;
+    FilmImage a = RenderOnCpu(AlphaShadowScene(dir, mode, spec)).image;
+    FilmImage b = RenderOnCpu(std::move(instanced)).image;
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0) << mode;
+  }
+}
+
 TEST(GltfMaterialRender, BlendAtHalfAlphaPassesHalfTheLight) {
   std::string dir = TempDir();
   SceneSpec spec;

@@ -109,9 +109,12 @@ inline Scene EmissiveTextureScene(const std::string& dir, bool floor, const Scen
 // (alpha 0 on the u < 0.5 half, 1 on the other, MASK 0.5, double-sided), "blend" (BLEND,
 // alpha 0.5 everywhere, double-sided), "up" / "down" (opaque, single-sided, facing up or down).
 // The camera (at height 1) sees the floor only; the occluder's shadow spans |x| < 4/3.
-inline Scene AlphaShadowScene(const std::string& dir, const std::string& mode, const SceneSpec& spec) {
+// `instanced`: the occluder placed by an instance of the scene's mesh table (identity).
+inline Scene AlphaShadowScene(const std::string& dir, const std::string& mode, const SceneSpec& spec,
+                              bool instanced = false) {
   std::string objects = R"({"type": "quad", "origin": [-4, 0, -4], "u": [0, 0, 8], "v": [8, 0, 0],
                             "material": "floor"})";
+  std::string meshes;
   if (mode != "none") {
     GltfWriter w("occluder_" + mode);
     std::string alpha;
@@ -131,11 +134,14 @@ inline Scene AlphaShadowScene(const std::string& dir, const std::string& mode, c
                                 : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
     sq.material = 0;
     w.AddPrimitive(sq);
-    objects += R"(, {"type": "mesh", "file": ")" + w.Write(dir) + "\"}";
+    const std::string file = w.Write(dir);
+    if (instanced) meshes = R"(, "meshes": {"occluder": {"file": ")" + file + "\"}}";
+    objects += instanced ? std::string(R"(, {"type": "instance", "mesh": "occluder"})")
+                         : R"(, {"type": "mesh", "file": ")" + file + "\"}";
   }
   std::string camera = R"({"position": [0, 1, 6], "look_at": [0, 0, 0], "fov_y": 45})";
   return LoadGenerated(dir, spec, camera, objects,
-                       R"(, "lights": [{"type": "point", "position": [0, 8, 0], "intensity": [64, 64, 64]}])");
+                       meshes + R"(, "lights": [{"type": "point", "position": [0, 8, 0], "intensity": [64, 64, 64]}])");
 }
 
 // A smooth transmissive glTF in a white environment seen head-on: a thin-walled square

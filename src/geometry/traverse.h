@@ -109,30 +109,30 @@ PT_HDI bool IntersectAnyIn(const SceneView& s, const Ray& ray, float tMax,
 // The scene's query in layout L, over the two levels when kInstanced (a scene with instances)
 // or the one flat BVH otherwise: each a kernel variant of its own, so a flat scene runs exactly
 // the single-level code. kHitTest: whether some material asks for a hit test (alpha, culling);
-// a flat scene without one runs traversal without that code. Instanced scenes always have it.
+// a scene without one runs traversal without that code.
 template <BvhLayout L, bool kInstanced, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool SceneClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                          TraversalCounters* counters) {
-  if constexpr (kInstanced) return IntersectClosestInstanced<L>(s, ray, tMax, hit, counters);
+  if constexpr (kInstanced) return IntersectClosestInstanced<L, kHitTest>(s, ray, tMax, hit, counters);
   else return IntersectClosestIn<L, kHitTest, kPooled>(s, ray, tMax, hit, counters);
 }
 
 template <BvhLayout L, bool kInstanced, bool kHitTest = true, bool kPooled = false>
 PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCounters* counters) {
-  if constexpr (kInstanced) return IntersectAnyInstanced<L>(s, ray, tMax, counters);
+  if constexpr (kInstanced) return IntersectAnyInstanced<L, kHitTest>(s, ray, tMax, counters);
   else return IntersectAnyIn<L, kHitTest, kPooled>(s, ray, tMax, counters);
 }
 
 // The same in the layout and structure the view names (a run-time choice; stages instantiate
-// per variant). kHitTest = false: no material asks for a hit test (instances always run it).
+// per variant). kHitTest = false: no material asks for a hit test.
 template <bool kHitTest = true>
 PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                              TraversalCounters* counters) {
   hit->instance = kNoInstance;
   if (s.instanceCount != 0) {
     return s.bvhLayout == BvhLayout::kWide
-               ? IntersectClosestInstanced<BvhLayout::kWide>(s, ray, tMax, hit, counters)
-               : IntersectClosestInstanced<BvhLayout::kBinary>(s, ray, tMax, hit, counters);
+               ? IntersectClosestInstanced<BvhLayout::kWide, kHitTest>(s, ray, tMax, hit, counters)
+               : IntersectClosestInstanced<BvhLayout::kBinary, kHitTest>(s, ray, tMax, hit, counters);
   }
   return s.bvhLayout == BvhLayout::kWide
              ? IntersectClosestIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, hit, counters)
@@ -144,8 +144,8 @@ PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
   if (s.instanceCount != 0) {
     return s.bvhLayout == BvhLayout::kWide
-               ? IntersectAnyInstanced<BvhLayout::kWide>(s, ray, tMax, counters)
-               : IntersectAnyInstanced<BvhLayout::kBinary>(s, ray, tMax, counters);
+               ? IntersectAnyInstanced<BvhLayout::kWide, kHitTest>(s, ray, tMax, counters)
+               : IntersectAnyInstanced<BvhLayout::kBinary, kHitTest>(s, ray, tMax, counters);
   }
   return s.bvhLayout == BvhLayout::kWide
              ? IntersectAnyIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, counters)

@@ -33,8 +33,9 @@ struct InstancedBest {
 };
 
 // One primitive of an instance's bottom level against the object-space ray: kClosest keeps the
-// nearest (ties by (instance, tag)), kAny takes any. True when it was taken.
-template <TraceMode kMode>
+// nearest (ties by (instance, tag)), kAny takes any. True when it was taken. kHitTest as in
+// IntersectPrim (false: no material of the scene asks for one).
+template <TraceMode kMode, bool kHitTest>
 PT_HDI bool TestBottomPrim(const SceneView& s, uint32_t i, const Ray& ray,
                            const TriangleRayData& triRay, uint32_t instance, InstancedBest& best,
                            float* tMax) {
@@ -42,14 +43,14 @@ PT_HDI bool TestBottomPrim(const SceneView& s, uint32_t i, const Ray& ray,
   float t;
   vec2 uv;
   if (kMode == TraceMode::kAny) {
-    if (!IntersectPrim(s, i, ray, triRay, *tMax, &t, &uv)) return false;
+    if (!IntersectPrim<kHitTest>(s, i, ray, triRay, *tMax, &t, &uv)) return false;
     best.prim = i;
     best.instance = instance;
     return true;
   }
   // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
   float limit = best.Found() ? NextFloatUp(*tMax) : *tMax;
-  if (!IntersectPrim(s, i, ray, triRay, limit, &t, &uv)) return false;
+  if (!IntersectPrim<kHitTest>(s, i, ray, triRay, limit, &t, &uv)) return false;
   uint32_t tag = s.prims[i].tagIndex;
   if (!(t < *tMax) && !best.Precedes(instance, tag)) return false;
   *tMax = t;
@@ -104,9 +105,10 @@ struct InstanceLevel {
     mark = -1;
   }
   // The instance's primitive `first + i` of its mesh; true when taken (TestBottomPrim).
-  template <TraceMode kMode>
+  template <TraceMode kMode, bool kHitTest>
   PT_HDI bool TestPrim(const SceneView& s, uint32_t i, InstancedBest& best) {
-    if (!TestBottomPrim<kMode>(s, primOffset + i, ray, triRay, instance, best, &tMax)) return false;
+    if (!TestBottomPrim<kMode, kHitTest>(s, primOffset + i, ray, triRay, instance, best, &tMax))
+      return false;
     hit = true;
     return true;
   }
@@ -117,7 +119,7 @@ struct InstanceLevel {
 // Hits, culling and their order are those of a walk whose leaves walk their instances.
 constexpr int kTwoLevelStackCapacity = 2 * kWideStackCapacity + 2;
 
-template <TraceMode kMode>
+template <TraceMode kMode, bool kHitTest>
 PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float* tMaxInOut,
                                   InstancedBest& best, TraversalCounters* counters) {
   const detail::WideRay worldR = detail::MakeWideRay(worldRay);
@@ -152,7 +154,7 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
     while (w.primMask != 0) {  // in an instance: its primitives
       const uint32_t bit = detail::LowestBit(w.primMask);
       w.primMask &= w.primMask - 1u;
-      if (level.TestPrim<kMode>(s, w.primBase + bit, best) && kMode == TraceMode::kAny) {
+      if (level.TestPrim<kMode, kHitTest>(s, w.primBase + bit, best) && kMode == TraceMode::kAny) {
         done = true;
         break;
       }
@@ -176,7 +178,7 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
 // walk their instances tests every instance of a leaf.
 constexpr int kTwoLevelBinaryStackSize = 2 * kBvhStackSize + 1;
 
-template <TraceMode kMode>
+template <TraceMode kMode, bool kHitTest>
 PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, float* tMaxInOut,
                                     InstancedBest& best, TraversalCounters* counters) {
   constexpr uint32_t kEnterBit = 0x80000000u;
@@ -221,7 +223,7 @@ PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, flo
       if (n.IsLeaf()) {
         bool done = false;
         for (uint32_t i = n.leftOrFirst; i < n.leftOrFirst + n.count && !done; ++i)
-          done = level.TestPrim<kMode>(s, i, best) && kMode == TraceMode::kAny;
+          done = level.TestPrim<kMode, kHitTest>(s, i, best) && kMode == TraceMode::kAny;
         if (done) break;
       } else if (n.count == 0 && n.leftOrFirst != 0 &&  // interior, as Traverse(BinaryBvh)
                  detail::StepIntoChildren(nodes, n.leftOrFirst, level.ray.o, invDir, level.tMax,
@@ -249,22 +251,22 @@ PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, flo
 }
 
 // Every instance's primitives against the world ray, into best, in layout L.
-template <BvhLayout L, TraceMode kMode>
+template <BvhLayout L, TraceMode kMode, bool kHitTest>
 PT_HDI void TraverseInstances(const SceneView& s, const Ray& ray, float* tMax, InstancedBest& best,
                               TraversalCounters* counters) {
   if (s.instanceCount == 0 || !TraceableRay(ray)) return;
-  if constexpr (L == BvhLayout::kWide) TraverseInstancedWide<kMode>(s, ray, tMax, best, counters);
-  else TraverseInstancedBinary<kMode>(s, ray, tMax, best, counters);
+  if constexpr (L == BvhLayout::kWide) TraverseInstancedWide<kMode, kHitTest>(s, ray, tMax, best, counters);
+  else TraverseInstancedBinary<kMode, kHitTest>(s, ray, tMax, best, counters);
 }
 
 // Nearest hit over every instance with 0 < t < tMax (as IntersectClosest in a flat scene),
-// hit->instance naming the placement.
-template <BvhLayout L>
+// hit->instance naming the placement. kHitTest: whether some material asks for a hit test.
+template <BvhLayout L, bool kHitTest = true>
 PT_HDI bool IntersectClosestInstanced(const SceneView& s, const Ray& ray, float tMax,
                                       HitRecord* hit, TraversalCounters* counters) {
   InstancedBest best;
   float t = tMax;
-  TraverseInstances<L, TraceMode::kClosest>(s, ray, &t, best, counters);
+  TraverseInstances<L, TraceMode::kClosest, kHitTest>(s, ray, &t, best, counters);
   if (counters) counters->prims += best.tested;
   hit->t = t;
   hit->prim = best.prim;
@@ -273,12 +275,12 @@ PT_HDI bool IntersectClosestInstanced(const SceneView& s, const Ray& ray, float 
   return best.Found();
 }
 
-template <BvhLayout L>
+template <BvhLayout L, bool kHitTest = true>
 PT_HDI bool IntersectAnyInstanced(const SceneView& s, const Ray& ray, float tMax,
                                   TraversalCounters* counters) {
   InstancedBest best;
   float t = tMax;
-  TraverseInstances<L, TraceMode::kAny>(s, ray, &t, best, counters);
+  TraverseInstances<L, TraceMode::kAny, kHitTest>(s, ray, &t, best, counters);
   if (counters) counters->prims += best.tested;
   return best.Found();
 }

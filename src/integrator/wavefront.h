@@ -223,9 +223,9 @@ class WavefrontIntegrator {
   // Calls f(layout, instanced, hitTest, pooled) with the scene's traversal variant as
   // std::integral_constant values: each variant is a kernel of its own, a flat scene runs the
   // single-level one, and one whose materials ask for no hit test (alpha, culling) runs it
-  // without that code. Instanced scenes always have it. pooled: a flat scene's wide walk with
-  // --prim-pool (traverse_wide_pooled.h), in kernels of its own so that the per-ray walk keeps
-  // its registers (8 variants).
+  // without that code, instanced or not. pooled: a flat scene's wide walk with --prim-pool
+  // (traverse_wide_pooled.h), in kernels of its own so that the per-ray walk keeps its
+  // registers (10 variants).
   template <typename F>
   void ForTraversal(F f) {
     using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
@@ -234,8 +234,10 @@ class WavefrontIntegrator {
     using No = std::false_type;
     const SceneView& v = sceneBuffers_.view;
     bool wide = v.bvhLayout == BvhLayout::kWide;
-    if (v.instanceCount != 0) {
+    if (v.instanceCount != 0 && hitTests_) {
       wide ? f(Wide{}, Yes{}, Yes{}, No{}) : f(Binary{}, Yes{}, Yes{}, No{});
+    } else if (v.instanceCount != 0) {
+      wide ? f(Wide{}, Yes{}, No{}, No{}) : f(Binary{}, Yes{}, No{}, No{});
     } else if (wide && primPool_) {
       hitTests_ ? f(Wide{}, No{}, Yes{}, Yes{}) : f(Wide{}, No{}, No{}, Yes{});
     } else if (hitTests_) {
