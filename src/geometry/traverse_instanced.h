@@ -32,32 +32,6 @@ struct InstancedBest {
   }
 };
 
-// One primitive of an instance's bottom level against the object-space ray: kClosest keeps the
-// nearest (ties by (instance, tag)), kAny takes any. True when it was taken. kHitTest as in
-// IntersectPrim (false: no material of the scene asks for one).
-template <TraceMode kMode, bool kHitTest>
-PT_HDI bool TestBottomPrim(const SceneView& s, uint32_t i, const Ray& ray,
-                           const TriangleRayData& triRay, uint32_t instance, InstancedBest& best,
-                           float* tMax) {
-  ++best.tested;
-  float t;
-  vec2 uv;
-  if (kMode == TraceMode::kAny) {
-    if (!IntersectPrim<kHitTest>(s, i, ray, triRay, *tMax, &t, &uv)) return false;
-    best.prim = i;
-    best.instance = instance;
-    return true;
-  }
-  // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
-  float limit = best.Found() ? NextFloatUp(*tMax) : *tMax;
-  if (!IntersectPrim<kHitTest>(s, i, ray, triRay, limit, &t, &uv)) return false;
-  uint32_t tag = s.prims[i].tagIndex;
-  if (!(t < *tMax) && !best.Precedes(instance, tag)) return false;
-  *tMax = t;
-  best = InstancedBest{i, instance, tag, uv, best.tested};
-  return true;
-}
-
 // The level a two-level walk is on: the top one (the world ray) or, after Enter, an instance's
 // tree, walked with the object-space ray and distances less dt. Both layouts' walks keep one
 // of these and their one stack: the instance's entries go above the top level's, and the walk
@@ -104,11 +78,29 @@ struct InstanceLevel {
     tMax = worldTMax;
     mark = -1;
   }
-  // The instance's primitive `first + i` of its mesh; true when taken (TestBottomPrim).
+  // The instance's primitive i of its mesh (primOffset + i in prims) against the object-space
+  // ray: kClosest keeps the nearest (ties by (instance, tag)), kAny takes any. True when taken.
+  // kHitTest as in IntersectPrim (false: no material of the scene asks for one).
   template <TraceMode kMode, bool kHitTest>
   PT_HDI bool TestPrim(const SceneView& s, uint32_t i, InstancedBest& best) {
-    if (!TestBottomPrim<kMode, kHitTest>(s, primOffset + i, ray, triRay, instance, best, &tMax))
-      return false;
+    const uint32_t p = primOffset + i;
+    ++best.tested;
+    float t;
+    vec2 uv;
+    if (kMode == TraceMode::kAny) {
+      if (!IntersectPrim<kHitTest>(s, p, ray, triRay, tMax, &t, &uv)) return false;
+      best.prim = p;
+      best.instance = instance;
+      hit = true;
+      return true;
+    }
+    // Once there is a hit, also admit one at exactly its distance: the smaller key wins.
+    const float limit = best.Found() ? NextFloatUp(tMax) : tMax;
+    if (!IntersectPrim<kHitTest>(s, p, ray, triRay, limit, &t, &uv)) return false;
+    const uint32_t tag = s.prims[p].tagIndex;
+    if (!(t < tMax) && !best.Precedes(instance, tag)) return false;
+    tMax = t;
+    best = InstancedBest{p, instance, tag, uv, best.tested};
     hit = true;
     return true;
   }
@@ -205,8 +197,7 @@ PT_HDI void TraverseInstancedBinary(const SceneView& s, const Ray& worldRay, flo
       if (leafLeft > 1) push(kEnterBit | (slot + 1), float(leafLeft - 1));
       if (level.Enter(s, s.instanceOrder[slot], stackSize)) {
         nodes = s.nodes + level.nodeOffset;
-        const vec3 d = level.ray.d;
-        invDir = vec3(1.0f / d.x, 1.0f / d.y, 1.0f / d.z);
+        invDir = level.triRay.invDir;  // 1 / d of the object-space ray
         node = 0;
         if (IntersectAabb(nodes[0].boundsMin, nodes[0].boundsMax, level.ray.o, invDir,
                           level.tMax, &tEntry))
@@ -255,8 +246,10 @@ template <BvhLayout L, TraceMode kMode, bool kHitTest>
 PT_HDI void TraverseInstances(const SceneView& s, const Ray& ray, float* tMax, InstancedBest& best,
                               TraversalCounters* counters) {
   if (s.instanceCount == 0 || !TraceableRay(ray)) return;
-  if constexpr (L == BvhLayout::kWide) TraverseInstancedWide<kMode, kHitTest>(s, ray, tMax, best, counters);
-  else TraverseInstancedBinary<kMode, kHitTest>(s, ray, tMax, best, counters);
+  if constexpr (L == BvhLayout::kWide)
+    TraverseInstancedWide<kMode, kHitTest>(s, ray, tMax, best, counters);
+  else
+    TraverseInstancedBinary<kMode, kHitTest>(s, ray, tMax, best, counters);
 }
 
 // Nearest hit over every instance with 0 < t < tMax (as IntersectClosest in a flat scene),

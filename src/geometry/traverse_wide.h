@@ -99,10 +99,6 @@ PT_HDI_HOT uint32_t NextChild(uint32_t groupBase, uint32_t* groupMask, uint32_t 
   return groupBase + PopCount8(*groupMask & 0xffu & ((1u << slot) - 1u));
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // The groups waiting in a wide walk. Kept apart from WideWalk's scalars: an array indexed at
 // run time lives in local memory on the GPU, and in one struct it took the scalars there too.
 template <int kCapacity>
@@ -135,8 +131,9 @@ struct WideWalk {
     ++stackSize;
   }
   // Takes the group's next interior child (the rest of the group waits on the stack) and tests
-  // it: its interior hits become the group, its primitive hits the primitive group, unless too
-  // few lanes have primitives (PostponePrims).
+  // it: its interior hits become the group, its primitive hits the primitive group, unless
+  // kPostpone and too few lanes have primitives (PostponePrims).
+  template <bool kPostpone = true>
   PT_HDI_HOT void VisitNext(const WideBvhNode* nodes, const WideRay& r, float tMax) {
     const uint32_t index = NextChild(groupBase, &groupMask, r.octInv);
     if (HasNode() && stackSize < kCapacity) Push(groupBase, groupMask);
@@ -145,7 +142,7 @@ struct WideWalk {
     groupMask = (n.hits & 0xff000000u) | n.innerMask;
     primBase = n.primBase;
     primMask = n.hits & 0x00ffffffu;
-    if (PostponePrims(primMask != 0) && HasNode() && postponed < kWidePostponed &&
+    if (kPostpone && PostponePrims(primMask != 0) && HasNode() && postponed < kWidePostponed &&
         stackSize < kCapacity) {
       Push(primBase, primMask);
       ++postponed;

@@ -155,35 +155,19 @@ __device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBe
   const WideBvh bvh = SceneWideBvh(s);
   bool done = bvh.nodeCount == 0 || !TraceableRay(ray);
   const WideRay r = MakeWideRay(ray);
-  uint32_t stackBase[kWideStackSize], stackMask[kWideStackSize];
-  int stackSize = 0;
-  uint32_t groupBase = 0, groupMask = 0x80000000u, nodesVisited = 0, primsTested = 0;
+  // The per-ray walk's steps, without postponing: here every step's primitives are tested at
+  // once, by the whole team.
+  WideStack<kWideStackSize> stack;
+  WideWalk<kWideStackSize> w(stack);
+  uint32_t nodesVisited = 0, primsTested = 0;
   while (__any_sync(team, !done)) {
-    uint32_t primBase = 0, primMask = 0;
-    if (!done && groupMask <= 0x00ffffffu) {
-      if (stackSize == 0) {
-        done = true;
-      } else {
-        --stackSize;
-        groupBase = stackBase[stackSize];
-        groupMask = stackMask[stackSize];
-      }
-    }
+    w.primMask = 0;
+    if (!done && !w.HasNode()) done = !w.Pop();
     if (!done) {
-      const uint32_t index = NextChild(groupBase, &groupMask, r.octInv);
-      if (groupMask > 0x00ffffffu && stackSize < kWideStackSize) {
-        stackBase[stackSize] = groupBase;
-        stackMask[stackSize] = groupMask;
-        ++stackSize;
-      }
       ++nodesVisited;
-      const WideNodeHits n = TestWideNode(bvh.nodes + index, r, best->tMax);
-      groupBase = n.childBase;
-      groupMask = (n.hits & 0xff000000u) | n.innerMask;
-      primBase = n.primBase;
-      primMask = n.hits & 0x00ffffffu;
+      w.VisitNext<false>(bvh.nodes, r, best->tMax);
     }
-    primsTested += TestPooledPrims<kMode, kHitTest>(s, team, ray, primBase, primMask, best);
+    primsTested += TestPooledPrims<kMode, kHitTest>(s, team, ray, w.primBase, w.primMask, best);
     if (kMode == TraceMode::kAny && best->prim != HitRecord::kNoHit) done = true;
   }
   if (counters) {

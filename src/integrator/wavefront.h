@@ -233,18 +233,13 @@ class WavefrontIntegrator {
     using Yes = std::true_type;
     using No = std::false_type;
     const SceneView& v = sceneBuffers_.view;
-    bool wide = v.bvhLayout == BvhLayout::kWide;
-    if (v.instanceCount != 0 && hitTests_) {
-      wide ? f(Wide{}, Yes{}, Yes{}, No{}) : f(Binary{}, Yes{}, Yes{}, No{});
-    } else if (v.instanceCount != 0) {
-      wide ? f(Wide{}, Yes{}, No{}, No{}) : f(Binary{}, Yes{}, No{}, No{});
-    } else if (wide && primPool_) {
-      hitTests_ ? f(Wide{}, No{}, Yes{}, Yes{}) : f(Wide{}, No{}, No{}, Yes{});
-    } else if (hitTests_) {
-      wide ? f(Wide{}, No{}, Yes{}, No{}) : f(Binary{}, No{}, Yes{}, No{});
-    } else {
-      wide ? f(Wide{}, No{}, No{}, No{}) : f(Binary{}, No{}, No{}, No{});
-    }
+    auto withHitTest = [&](auto layout, auto instanced, auto pooled) {
+      hitTests_ ? f(layout, instanced, Yes{}, pooled) : f(layout, instanced, No{}, pooled);
+    };
+    const bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
+    if (instanced) wide ? withHitTest(Wide{}, Yes{}, No{}) : withHitTest(Binary{}, Yes{}, No{});
+    else if (wide) primPool_ ? withHitTest(Wide{}, No{}, Yes{}) : withHitTest(Wide{}, No{}, No{});
+    else withHitTest(Binary{}, No{}, No{});
   }
 
   // Blocks of 128 threads every traversal kernel keeps per SM, which caps it at 64 registers
