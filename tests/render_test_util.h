@@ -31,13 +31,13 @@ inline Scene SmallScene(const std::string& path, int width, int height, int spp)
   return BuildScene(std::move(desc));
 }
 
-// The same film bit for bit: size, statistics, counts and feature channels.
 // Bit-identical colour: the same size and the same floats.
 inline bool SameImage(const FilmImage& a, const FilmImage& b) {
   return a.rgb.size() == b.rgb.size() &&
          std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
 }
 
+// The same film bit for bit: size, statistics, counts and feature channels.
 inline bool SameFilm(const FilmState& a, const FilmState& b) {
   return a.width == b.width && a.height == b.height && BitIdentical(a.mean, b.mean) &&
          BitIdentical(a.m2, b.m2) && BitIdentical(a.lumMean, b.lumMean) &&
