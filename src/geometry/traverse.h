@@ -11,6 +11,8 @@
 // not its BVH position) wins. So both layouts, and every builder, give the same hit.
 #pragma once
 
+#include <type_traits>
+
 #include "src/geometry/shapes.h"
 #include "src/geometry/traverse_binary.h"
 #include "src/geometry/traverse_instanced.h"
@@ -123,33 +125,36 @@ PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCo
   else return IntersectAnyIn<L, kHitTest, kPooled>(s, ray, tMax, counters);
 }
 
-// The same in the layout and structure the view names (a run-time choice; stages instantiate
-// per variant). kHitTest = false: no material asks for a hit test.
+// Calls f(layout, instanced) with the view's layout and structure (flat or two-level) as
+// std::integral_constant values, the choice SceneClosest and SceneAny take at compile time.
+template <typename F>
+PT_HDI bool ForSceneStructure(const SceneView& s, F&& f) {
+  using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
+  using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
+  const bool wide = s.bvhLayout == BvhLayout::kWide;
+  if (s.instanceCount != 0) return wide ? f(Wide{}, std::true_type{}) : f(Binary{}, std::true_type{});
+  return wide ? f(Wide{}, std::false_type{}) : f(Binary{}, std::false_type{});
+}
+
+// The scene's queries in the layout and structure the view names (a run-time choice; stages
+// instantiate per variant). kHitTest = false: no material asks for a hit test.
 template <bool kHitTest = true>
 PT_HDI bool IntersectClosest(const SceneView& s, const Ray& ray, float tMax, HitRecord* hit,
                              TraversalCounters* counters) {
   hit->instance = kNoInstance;
-  if (s.instanceCount != 0) {
-    return s.bvhLayout == BvhLayout::kWide
-               ? IntersectClosestInstanced<BvhLayout::kWide, kHitTest>(s, ray, tMax, hit, counters)
-               : IntersectClosestInstanced<BvhLayout::kBinary, kHitTest>(s, ray, tMax, hit, counters);
-  }
-  return s.bvhLayout == BvhLayout::kWide
-             ? IntersectClosestIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, hit, counters)
-             : IntersectClosestIn<BvhLayout::kBinary, kHitTest>(s, ray, tMax, hit, counters);
+  return ForSceneStructure(s, [&](auto layout, auto instanced) {
+    return SceneClosest<decltype(layout)::value, decltype(instanced)::value, kHitTest>(
+        s, ray, tMax, hit, counters);
+  });
 }
 
 template <bool kHitTest = true>
 PT_HDI bool IntersectAny(const SceneView& s, const Ray& ray, float tMax,
                          TraversalCounters* counters) {
-  if (s.instanceCount != 0) {
-    return s.bvhLayout == BvhLayout::kWide
-               ? IntersectAnyInstanced<BvhLayout::kWide, kHitTest>(s, ray, tMax, counters)
-               : IntersectAnyInstanced<BvhLayout::kBinary, kHitTest>(s, ray, tMax, counters);
-  }
-  return s.bvhLayout == BvhLayout::kWide
-             ? IntersectAnyIn<BvhLayout::kWide, kHitTest>(s, ray, tMax, counters)
-             : IntersectAnyIn<BvhLayout::kBinary, kHitTest>(s, ray, tMax, counters);
+  return ForSceneStructure(s, [&](auto layout, auto instanced) {
+    return SceneAny<decltype(layout)::value, decltype(instanced)::value, kHitTest>(s, ray, tMax,
+                                                                                   counters);
+  });
 }
 
 }  // namespace pt
