@@ -147,6 +147,41 @@ TEST(BvhWide, ClosestHitIsIndependentOfLayoutAndBuilder) {
   }
 }
 
+// The GPU's closest-hit walk takes each node's nearest hit interior child first
+// (kWideNearestFirst); run here on the host through the scalar node test, it must find brute
+// force's hit, and the octant-order walk's, on random and grazing rays, for both builders.
+TEST(BvhWide, NearestChildFirstWalkMatchesBruteForce) {
+  const Soup soup = MakeSoup(7);
+  const std::vector<Ray> rays = MakeRays(soup, 20000, 9);
+  for (BvhBuilder builder : {BvhBuilder::kSah, BvhBuilder::kSbvh}) {
+    ShapeScene scene = BuildSoup(soup, BvhLayout::kWide, builder);
+    SCOPED_TRACE(BvhBuilderName(builder));
+    TraversalCounters nearestFirst{}, octantOrder{};
+    int hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      PrimLeaf<TraceMode::kClosest> a(scene.view, rays[i]), b(scene.view, rays[i]);
+      float tA = kInfinity, tB = kInfinity;
+      Traverse<TraceMode::kClosest, decltype(a), true>(SceneWideBvh(scene.view), rays[i], &tA, a,
+                                                      &nearestFirst);
+      Traverse<TraceMode::kClosest, decltype(b), false>(SceneWideBvh(scene.view), rays[i], &tB, b,
+                                                       &octantOrder);
+      HitRecord brute;
+      const bool hit = test::BruteForceClosest(scene.view, rays[i], kInfinity, &brute);
+      ASSERT_EQ(a.prim != HitRecord::kNoHit, hit) << "ray " << i;
+      ASSERT_EQ(b.prim != HitRecord::kNoHit, hit) << "ray " << i;
+      if (!hit) continue;
+      ++hits;
+      ASSERT_EQ(tA, brute.t) << "ray " << i;
+      ASSERT_EQ(tB, brute.t) << "ray " << i;
+      ASSERT_EQ(scene.view.prims[a.prim].tagIndex, scene.view.prims[brute.prim].tagIndex) << i;
+      ASSERT_EQ(a.uv, b.uv) << "ray " << i;
+    }
+    EXPECT_GT(hits, int(rays.size()) / 10);
+    // The two orders really differ: otherwise this test would not exercise the new one.
+    EXPECT_NE(nearestFirst.nodes, octantOrder.nodes);
+  }
+}
+
 // Overlapping coplanar triangles and quads (a rug on a floor, decals): their computed hit
 // distances differ only by rounding, up to ~1e-5 before the plane's exact distance, which is
 // also their boxes' entry distance. With --tri-test box-clamped every tree must still return
@@ -202,6 +237,52 @@ Aabb WideChildBox(const WideBvhNode& n, int slot) {
     box.hi[a] = n.origin[a] + float(n.qhi[a][slot]) * scale;
   }
   return box;
+}
+
+// Entry distance of a ray into a box, in double: the largest near-plane distance, at least 0.
+double EntryDistance(const Aabb& box, const Ray& ray) {
+  double entry = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = (double(box.lo[a]) - ray.o[a]) / ray.d[a];
+    const double hi = (double(box.hi[a]) - ray.o[a]) / ray.d[a];
+    entry = std::max(entry, std::min(lo, hi));
+  }
+  return entry;
+}
+
+// The node test's nearest child: a hit interior child (none exactly when no interior child is
+// hit) whose box the ray enters no later than any other hit interior child's, up to the test's
+// conservative widening of its distances.
+TEST(BvhWide, NodeTestNamesTheNearestHitInteriorChild) {
+  const Soup soup = MakeSoup(13);
+  ShapeScene scene = BuildSoup(soup, BvhLayout::kWide, BvhBuilder::kSah);
+  const std::vector<WideBvhNode>& nodes = scene.scene.wideNodes;
+  const std::vector<Ray> rays = MakeRays(soup, 2000, 15);
+  int choices = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const detail::WideRay r = detail::MakeWideRay(rays[i]);
+    for (size_t index = 0; index < nodes.size(); ++index) {
+      const WideBvhNode& node = nodes[index];
+      uint32_t nearest = ~0u;
+      const uint32_t hits = detail::IntersectWideChildrenScalar<true>(
+          detail::LoadWideNode(&node), r, kInfinity, &nearest);
+      const uint32_t interiorHits = hits & 0xff000000u;
+      ASSERT_EQ(nearest == 0, interiorHits == 0) << "ray " << i << " node " << index;
+      if (interiorHits == 0) continue;
+      ASSERT_TRUE(nearest >= 24 && ((interiorHits >> nearest) & 1u)) << i << " " << index;
+      const auto entry = [&](uint32_t bit) {
+        return EntryDistance(WideChildBox(node, int((bit - 24u) ^ r.octInv)), rays[i]);
+      };
+      const double nearestEntry = entry(nearest);
+      for (uint32_t bit = 24; bit < 32; ++bit) {
+        if (bit == nearest || !((interiorHits >> bit) & 1u)) continue;
+        ++choices;
+        ASSERT_LE(nearestEntry, entry(bit) + 1e-5 * (1.0 + entry(bit)))
+            << "ray " << i << " node " << index << " bit " << bit;
+      }
+    }
+  }
+  EXPECT_GT(choices, 1000);  // nodes where more than one interior child was hit
 }
 
 bool BoxContains(const Aabb& outer, const Aabb& inner) {

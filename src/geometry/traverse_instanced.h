@@ -124,7 +124,7 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
   for (;;) {
     if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;
-      w.VisitNext(nodes, r, level.tMax);
+      w.template VisitNext<true, kWideNearestFirst<kMode>>(nodes, r, level.tMax);
     }
     if (!level.InInstance() && w.primMask != 0) {  // enter the group's next instance
       const uint32_t bit = detail::LowestBit(w.primMask);
@@ -136,6 +136,7 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
       }
       w.primMask = 0;
       w.groupMask = 0;
+      w.first = 0;
       if (level.Enter(s, s.instanceOrder[w.primBase + bit], w.stackSize)) {
         r = detail::MakeWideRay(level.ray);
         nodes = s.wideNodes + level.nodeOffset;

@@ -165,7 +165,7 @@ __device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBe
     if (!done && !w.HasNode()) done = !w.Pop();
     if (!done) {
       ++nodesVisited;
-      w.VisitNext<false>(bvh.nodes, r, best->tMax);
+      w.template VisitNext<false, kWideNearestFirst<kMode>>(bvh.nodes, r, best->tMax);
     }
     primsTested += TestPooledPrims<kMode, kHitTest>(s, team, ray, w.primBase, w.primMask, best);
     if (kMode == TraceMode::kAny && best->prim != HitRecord::kNoHit) done = true;

@@ -200,25 +200,33 @@ inline __attribute__((always_inline)) uint32_t IntersectWideChildrenSse(
 }
 #endif
 
-// Bit mask of the children of `n` that the ray enters within [0, tMax]: interior children at
-// bit 24 + (slot ^ octInv), each leaf's primitives at bits [offset, offset + count).
-PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
-  const float px = FloatFromBits(n.w[0]), py = FloatFromBits(n.w[1]), pz = FloatFromBits(n.w[2]);
-  const uint32_t e = n.w[3];
-  const float adjX = FloatFromBits((e & 0xffu) << 23) * r.invDir.x;
-  const float adjY = FloatFromBits(((e >> 8) & 0xffu) << 23) * r.invDir.y;
-  const float adjZ = FloatFromBits(((e >> 16) & 0xffu) << 23) * r.invDir.z;
-  const float ax = (px - r.o.x) * r.invDir.x, ay = (py - r.o.y) * r.invDir.y,
-              az = (pz - r.o.z) * r.invDir.z;
-  const float ex = kWideSlack * fabsf(ax), ey = kWideSlack * fabsf(ay), ez = kWideSlack * fabsf(az);
-  const float nearX = ax - ex, nearY = ay - ey, nearZ = az - ez;
-  const float farX = ax + ex, farY = ay + ey, farZ = az + ez;
-#ifdef PT_WIDE_SSE
-  const float adj[3] = {adjX, adjY, adjZ}, nearD[3] = {nearX, nearY, nearZ},
-              farD[3] = {farX, farY, farZ};
-  return IntersectWideChildrenSse(n, r, tMax, adj, nearD, farD);
-#else
-  uint32_t hits = 0;
+// A node's slab constants for one ray (see kWideSlack): t = q * adj + near (entry) or + far.
+struct WideNodeFrame {
+  float adjX, adjY, adjZ, nearX, nearY, nearZ, farX, farY, farZ;
+
+  PT_HDI_HOT static WideNodeFrame Make(const WideNodeWords& n, const WideRay& r) {
+    const float px = FloatFromBits(n.w[0]), py = FloatFromBits(n.w[1]), pz = FloatFromBits(n.w[2]);
+    const uint32_t e = n.w[3];
+    const float ax = (px - r.o.x) * r.invDir.x, ay = (py - r.o.y) * r.invDir.y,
+                az = (pz - r.o.z) * r.invDir.z;
+    const float ex = kWideSlack * fabsf(ax), ey = kWideSlack * fabsf(ay),
+                ez = kWideSlack * fabsf(az);
+    return WideNodeFrame{FloatFromBits((e & 0xffu) << 23) * r.invDir.x,
+                         FloatFromBits(((e >> 8) & 0xffu) << 23) * r.invDir.y,
+                         FloatFromBits(((e >> 16) & 0xffu) << 23) * r.invDir.z,
+                         ax - ex, ay - ey, az - ez, ax + ex, ay + ey, az + ez};
+  }
+};
+
+// The node test one slot at a time (the GPU's; hosts run it for kNearest). kNearest: also
+// *nearestBit = the mask bit of the hit interior child with the smallest entry distance (0:
+// none), which closest-hit walks on the GPU visit first (traverse_wide.h).
+template <bool kNearest>
+PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const WideRay& r,
+                                                float tMax, uint32_t* nearestBit) {
+  const WideNodeFrame f = WideNodeFrame::Make(n, r);
+  uint32_t hits = 0, nearest = 0;
+  float nearestT = tMax;
   for (int half = 0; half < 2; ++half) {
     // qlo words at 8 + 2 axis + half, qhi at 14 + 2 axis + half; swapped where the ray goes down.
     uint32_t loX = n.w[8 + half], hiX = n.w[14 + half];
@@ -229,33 +237,62 @@ PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay&
     const uint32_t qnZ = r.neg[2] ? hiZ : loZ, qfZ = r.neg[2] ? loZ : hiZ;
     const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
     for (uint32_t k = 0; k < 4; ++k) {
-      float t0 = MulAdd(ByteAsFloat(qnX, k), adjX, nearX);
-      t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), adjY, nearY));
-      t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnZ, k), adjZ, nearZ));
-      float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), adjX, farX));
-      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), adjY, farY));
-      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), adjZ, farZ));
-      if (t0 <= t1 * kWideFarScale) hits |= slots.HitBits(k);
+      float t0 = MulAdd(ByteAsFloat(qnX, k), f.adjX, f.nearX);
+      t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), f.adjY, f.nearY));
+      t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnZ, k), f.adjZ, f.nearZ));
+      float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), f.adjX, f.farX));
+      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), f.adjY, f.farY));
+      t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), f.adjZ, f.farZ));
+      if (t0 <= t1 * kWideFarScale) {
+        hits |= slots.HitBits(k);
+        const uint32_t bit = (slots.bitIndex4 >> (8u * k)) & 0xffu;
+        if (kNearest && bit >= 24u && t0 <= nearestT) {
+          nearestT = t0;
+          nearest = bit;
+        }
+      }
     }
   }
+  if constexpr (kNearest) *nearestBit = nearest;
   return hits;
+}
+
+// Bit mask of the children of `n` that the ray enters within [0, tMax]: interior children at
+// bit 24 + (slot ^ octInv), each leaf's primitives at bits [offset, offset + count).
+PT_HDI_HOT uint32_t IntersectWideChildren(const WideNodeWords& n, const WideRay& r, float tMax) {
+#ifdef PT_WIDE_SSE
+  const WideNodeFrame f = WideNodeFrame::Make(n, r);
+  const float adj[3] = {f.adjX, f.adjY, f.adjZ}, nearD[3] = {f.nearX, f.nearY, f.nearZ},
+              farD[3] = {f.farX, f.farY, f.farZ};
+  return IntersectWideChildrenSse(n, r, tMax, adj, nearD, farD);
+#else
+  return IntersectWideChildrenScalar<false>(n, r, tMax, nullptr);
 #endif
 }
 
 // What the traversal needs of a visited node: the hit bits and where its children are.
 struct WideNodeHits {
   uint32_t hits, childBase, primBase, innerMask;
+  uint32_t nearest = 0;  // kNearest: the nearest hit interior child's bit (0: none)
 };
 
+// kNearest (the GPU's closest-hit walks): with the nearest hit interior child. Hosts then run
+// the scalar test (tests/bvh_wide_test.cpp walks that way); their own walks take the octant
+// order, which was faster on the CPU (benchmarks/RESULTS.md, 2026-11-26, third session).
+template <bool kNearest = false>
 PT_HDI_HOT WideNodeHits TestWideNode(const WideBvhNode* node, const WideRay& r, float tMax) {
 #ifdef PT_WIDE_AVX2
-  // The fields straight from memory: no copy of the node's words to index into.
-  return WideNodeHits{IntersectWideChildrenAvx2(node, r, tMax), node->childBase, node->primBase,
-                      node->innerMask};
-#else
-  const WideNodeWords n = LoadWideNode(node);
-  return WideNodeHits{IntersectWideChildren(n, r, tMax), n.w[4], n.w[5], n.w[3] >> 24};
+  if constexpr (!kNearest) {
+    // The fields straight from memory: no copy of the node's words to index into.
+    return WideNodeHits{IntersectWideChildrenAvx2(node, r, tMax), node->childBase,
+                        node->primBase, node->innerMask};
+  }
 #endif
+  const WideNodeWords n = LoadWideNode(node);
+  WideNodeHits h{0u, n.w[4], n.w[5], n.w[3] >> 24};
+  if constexpr (kNearest) h.hits = IntersectWideChildrenScalar<true>(n, r, tMax, &h.nearest);
+  else h.hits = IntersectWideChildren(n, r, tMax);
+  return h;
 }
 
 }  // namespace detail
