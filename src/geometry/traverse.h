@@ -132,8 +132,10 @@ PT_HDI bool ForSceneStructure(const SceneView& s, F&& f) {
   using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
   using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
   const bool wide = s.bvhLayout == BvhLayout::kWide;
-  if (s.instanceCount != 0) return wide ? f(Wide{}, std::true_type{}) : f(Binary{}, std::true_type{});
-  return wide ? f(Wide{}, std::false_type{}) : f(Binary{}, std::false_type{});
+  using Two = std::true_type;
+  using Flat = std::false_type;
+  if (s.instanceCount != 0) return wide ? f(Wide{}, Two{}) : f(Binary{}, Two{});
+  return wide ? f(Wide{}, Flat{}) : f(Binary{}, Flat{});
 }
 
 // The scene's queries in the layout and structure the view names (a run-time choice; stages

@@ -2,8 +2,8 @@
 // with five 16-byte loads, its eight quantised child boxes are tested at once, and the hit
 // children are kept as a bit mask (a "group") instead of one stack entry each. Interior hits
 // are visited in the order the build chose for the ray's octant (on the GPU's closest-hit walks
-// the nearest one first: kWideNearestFirst); the primitives of hit leaves
-// go to the leaf callback (same contract as traverse_binary.h) one at a time.
+// the nearest one first: kWideNearestFirst); the primitives of hit leaves go to the leaf
+// callback (same contract as traverse_binary.h) one at a time.
 //
 // The box test is conservative although it works on quantised boxes with the cheap form
 // t = q * (scale / d) + (origin - o) / d: see kWideSlack in wide_node_test.h.
@@ -184,7 +184,8 @@ struct WideWalk {
 }  // namespace detail
 
 // Walks a wide BVH: the current node group is consumed highest bit first (after the nearest
-// child when kNearest); the rest of a group waits on the stack. Hit primitives go to the leaf callback; *tMax as in the binary traversal.
+// child when kNearest); the rest of a group waits on the stack. Hit primitives go to the leaf
+// callback; *tMax as in the binary traversal.
 template <TraceMode kMode, typename LeafFn, bool kNearest = kWideNearestFirst<kMode>>
 PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
                      TraversalCounters* counters) {

@@ -238,7 +238,8 @@ PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const Wi
     const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
     for (uint32_t k = 0; k < 4; ++k) {
       float t0 = MulAdd(ByteAsFloat(qnX, k), f.adjX, f.nearX);
-      t0 = detail::MaxIgnoreNan(t0 > 0.0f ? t0 : 0.0f, MulAdd(ByteAsFloat(qnY, k), f.adjY, f.nearY));
+      t0 = t0 > 0.0f ? t0 : 0.0f;
+      t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnY, k), f.adjY, f.nearY));
       t0 = detail::MaxIgnoreNan(t0, MulAdd(ByteAsFloat(qnZ, k), f.adjZ, f.nearZ));
       float t1 = detail::MinIgnoreNan(tMax, MulAdd(ByteAsFloat(qfX, k), f.adjX, f.farX));
       t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfY, k), f.adjY, f.farY));
