@@ -126,9 +126,10 @@ PT_HDI bool SceneAny(const SceneView& s, const Ray& ray, float tMax, TraversalCo
 }
 
 // Calls f(layout, instanced) with the view's layout and structure (flat or two-level) as
-// std::integral_constant values, the choice SceneClosest and SceneAny take at compile time.
+// std::integral_constant values, the choice SceneClosest and SceneAny take at compile time
+// (and the integrator's kernel variants, wavefront.h); returns what f returns.
 template <typename F>
-PT_HDI bool ForSceneStructure(const SceneView& s, F&& f) {
+PT_HDI decltype(auto) ForSceneStructure(const SceneView& s, F&& f) {
   using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
   using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
   const bool wide = s.bvhLayout == BvhLayout::kWide;

@@ -143,15 +143,9 @@ PT_HDI void TraverseInstancedWide(const SceneView& s, const Ray& worldRay, float
         w.Restart();
       }
     }
-    bool done = false;
-    while (w.primMask != 0) {  // in an instance: its primitives
-      const uint32_t bit = detail::LowestBit(w.primMask);
-      w.primMask &= w.primMask - 1u;
-      if (level.TestPrim<kMode, kHitTest>(s, w.primBase + bit, best) && kMode == TraceMode::kAny) {
-        done = true;
-        break;
-      }
-    }
+    const bool done = w.TestPrims([&](uint32_t prim) {  // in an instance: its primitives
+      return level.TestPrim<kMode, kHitTest>(s, prim, best) && kMode == TraceMode::kAny;
+    });
     if (done) break;
     if (w.HasNode()) continue;
     if (level.InInstance() && w.stackSize == level.mark) {  // back to the top level

@@ -163,6 +163,17 @@ struct WideWalk {
       primMask = 0;
     }
   }
+  // Hands the primitive group's primitives to stop(index), lowest bit first, until it returns
+  // true (an occlusion walk's blocker): then true, with the rest of the group dropped.
+  template <typename StopFn>
+  PT_HDI_HOT bool TestPrims(StopFn&& stop) {
+    while (primMask != 0) {
+      const uint32_t bit = LowestBit(primMask);
+      primMask &= primMask - 1u;
+      if (stop(primBase + bit)) return true;
+    }
+    return false;
+  }
   // The next waiting group, once the current one has no interior child left; false when none.
   PT_HDI_HOT bool Pop() {
     if (stackSize == 0) return false;
@@ -200,15 +211,9 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
       ++nodesVisited;
       w.template VisitNext<true, kNearest>(bvh.nodes, r, tMax);
     }
-    bool done = false;
-    while (w.primMask != 0) {
-      const uint32_t bit = detail::LowestBit(w.primMask);
-      w.primMask &= w.primMask - 1u;
-      if (leaf(w.primBase + bit, 1u, &tMax) && kMode == TraceMode::kAny) {
-        done = true;
-        break;
-      }
-    }
+    const bool done = w.TestPrims([&](uint32_t prim) {
+      return leaf(prim, 1u, &tMax) && kMode == TraceMode::kAny;
+    });
     if (done || (!w.HasNode() && !w.Pop())) break;
   }
   *tMaxInOut = tMax;

@@ -246,10 +246,12 @@ PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const Wi
       t1 = detail::MinIgnoreNan(t1, MulAdd(ByteAsFloat(qfZ, k), f.adjZ, f.farZ));
       if (t0 <= t1 * kWideFarScale) {
         hits |= slots.HitBits(k);
-        const uint32_t bit = (slots.bitIndex4 >> (8u * k)) & 0xffu;
-        if (kNearest && bit >= 24u && t0 <= nearestT) {
-          nearestT = t0;
-          nearest = bit;
+        if constexpr (kNearest) {
+          const uint32_t bit = (slots.bitIndex4 >> (8u * k)) & 0xffu;
+          if (bit >= 24u && t0 <= nearestT) {
+            nearestT = t0;
+            nearest = bit;
+          }
         }
       }
     }

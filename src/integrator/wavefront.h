@@ -228,18 +228,18 @@ class WavefrontIntegrator {
   // registers (10 variants).
   template <typename F>
   void ForTraversal(F f) {
-    using Wide = std::integral_constant<BvhLayout, BvhLayout::kWide>;
-    using Binary = std::integral_constant<BvhLayout, BvhLayout::kBinary>;
     using Yes = std::true_type;
     using No = std::false_type;
-    const SceneView& v = sceneBuffers_.view;
     auto withHitTest = [&](auto layout, auto instanced, auto pooled) {
       hitTests_ ? f(layout, instanced, Yes{}, pooled) : f(layout, instanced, No{}, pooled);
     };
-    const bool wide = v.bvhLayout == BvhLayout::kWide, instanced = v.instanceCount != 0;
-    if (instanced) wide ? withHitTest(Wide{}, Yes{}, No{}) : withHitTest(Binary{}, Yes{}, No{});
-    else if (wide) primPool_ ? withHitTest(Wide{}, No{}, Yes{}) : withHitTest(Wide{}, No{}, No{});
-    else withHitTest(Binary{}, No{}, No{});
+    ForSceneStructure(sceneBuffers_.view, [&](auto layout, auto instanced) {
+      if constexpr (decltype(layout)::value == BvhLayout::kWide && !decltype(instanced)::value) {
+        primPool_ ? withHitTest(layout, instanced, Yes{}) : withHitTest(layout, instanced, No{});
+      } else {
+        withHitTest(layout, instanced, No{});
+      }
+    });
   }
 
   // Blocks of 128 threads every traversal kernel keeps per SM, which caps it at 64 registers

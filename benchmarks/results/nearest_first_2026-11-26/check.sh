@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The committed build after the review: GPU tests, its images against the build measured in
-# final.sh (pathtracer_tested), and the bunny render alternating.
+# The committed build after a review (run after each): GPU tests, its images against the build
+# measured in final.sh (pathtracer_tested), and the bunny and Breakfast renders alternating.
 set -uo pipefail
 OUT="${OUT:-out}"; mkdir -p "$OUT"
 ROOT="$PWD"; B="$ROOT/.device/bin"; S=benchmarks/scenes
