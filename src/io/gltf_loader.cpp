@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "src/io/gltf_document.h"
 #include "src/io/gltf_material.h"
 #include "src/io/gltf_nodes.h"
 #include "src/io/gltf_scene.h"
@@ -38,28 +39,11 @@ bool IsUnsignedIntegerType(int type) {
          type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 }
 
-// A binary glTF (the "glTF" magic); its container version must be 2 (tinygltf reads any).
-bool IsGlb(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char header[8] = {};
-  if (!in.read(reinterpret_cast<char*>(header), 4) || std::memcmp(header, "glTF", 4) != 0) {
-    return false;
-  }
-  if (!in.read(reinterpret_cast<char*>(header + 4), 4)) Malformed("truncated GLB header");
-  uint32_t version = uint32_t(header[4]) | uint32_t(header[5]) << 8 | uint32_t(header[6]) << 16 |
-                     uint32_t(header[7]) << 24;  // little-endian
-  if (version != 2) Malformed("GLB container version " + std::to_string(version) + " (expected 2)");
-  return true;
-}
-
 tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedImages& images) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(CaptureImage, &images);
   tinygltf::Model model;
-  std::string err, warn;
-  bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                              : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) Malformed("cannot load glTF: " + (err.empty() ? "unknown error" : OneLine(err)));
+  std::string warn = LoadGltfDocument(path, loader, &model);  // Draco and meshopt decoded
   if (!warn.empty()) sink.Warn("glTF reader: " + OneLine(warn));
   return model;
 }
@@ -387,7 +371,6 @@ class GltfWalker {
 GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
   GltfEncodedImages images;
   tinygltf::Model model = ReadModel(path, sink, images);
-  CheckGltfRequiredExtensions(model);
   GltfWalker walker(model, images, sink);
   int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
@@ -405,7 +388,6 @@ GltfSceneContents ReadGltfSceneParts(const std::string& path) {
   MeshSink sink(unused, glm::dmat4(1.0), -1, path);
   GltfEncodedImages images;
   tinygltf::Model model = ReadModel(path, sink, images);
-  CheckGltfRequiredExtensions(model);
   return ReadGltfSceneContents(model, glm::dmat4(1.0));
 }
 

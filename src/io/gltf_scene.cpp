@@ -23,18 +23,21 @@ std::string Plural(size_t n, const std::string& one, const std::string& many) {
 
 // Extensions read here or by the mesh and material loaders (KHR_mesh_quantization only widens
 // the accessor types, which the accessor reader takes generally). Material and texture
-// extensions the material mapping cannot honour are named in its own summary line.
+// extensions the material mapping cannot honour are named in its own summary line. Draco and
+// meshopt data are decoded before tinygltf parses the file (src/io/gltf_document.h); WebP is
+// decoded, and KHR_texture_basisu's KTX2 images are replaced by their fallback (a texture
+// without one is refused there).
 bool IsReadExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_mesh_quantization" ||
-         name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0;
+         name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 ||
+         name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
+         name == "KHR_meshopt_compression" || name == "EXT_texture_webp";
 }
 
 // Required extensions that are harmless when unread: none change geometry or visibility
 // except the compression and image-format ones, which would leave the renderer nothing to
 // read, so a file requiring any other unread extension is refused too.
-bool IsReadableWhenRequired(const std::string& name) {
-  return IsReadExtension(name) && name != "KHR_texture_basisu";
-}
+bool IsReadableWhenRequired(const std::string& name) { return IsReadExtension(name); }
 
 // A unit direction of the node's frame in world space; throws when the transform collapses it.
 glm::dvec3 WorldDirection(const glm::dmat4& world, glm::dvec3 local, const std::string& part) {
@@ -204,7 +207,11 @@ void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSc
 }  // namespace
 
 void CheckGltfRequiredExtensions(const tinygltf::Model& model) {
-  for (const std::string& name : model.extensionsRequired) {
+  CheckGltfRequiredExtensions(model.extensionsRequired);
+}
+
+void CheckGltfRequiredExtensions(const std::vector<std::string>& required) {
+  for (const std::string& name : required) {
     if (!IsReadableWhenRequired(name)) {
       Fail("extensionsRequired: the file requires " + name + ", which this renderer cannot read");
     }

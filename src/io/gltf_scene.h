@@ -39,8 +39,10 @@ struct GltfSceneContents {
   }
 };
 
-// Refuses a file that requires an extension the renderer cannot read (Draco, meshopt, basisu
-// ...): std::runtime_error naming it. Called before any mesh is read.
+// Refuses a file that requires an extension the renderer cannot read (one it does not know):
+// std::runtime_error naming it. Called on the JSON before tinygltf parses the file
+// (src/io/gltf_document.h), so a parser error cannot come first.
+void CheckGltfRequiredExtensions(const std::vector<std::string>& required);
 void CheckGltfRequiredExtensions(const tinygltf::Model& model);
 
 // Walks the default scene's nodes for cameras and lights (objectToWorld applied after the
