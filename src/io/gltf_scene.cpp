@@ -176,7 +176,8 @@ class SceneReader {
 };
 
 // What the file has that no loader reads, as summary phrases.
-void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSceneContents& out) {
+void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, bool animated,
+                 GltfSceneContents& out) {
   size_t orthographic = 0;
   for (const GltfCamera& c : out.cameras) orthographic += c.perspective ? 0 : 1;
   if (orthographic > 0) {
@@ -187,18 +188,10 @@ void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSc
     out.ignored.push_back("the range of " + Plural(reader.ignoredRanges, "light", "lights") +
                           " (inverse-square falloff everywhere)");
   }
-  if (!model.animations.empty()) {
+  if (!model.animations.empty() && !animated) {
     out.ignored.push_back(Plural(model.animations.size(), "animation", "animations") +
-                          " (the rest pose is rendered)");
+                          " (the static pose is rendered; --time SECONDS poses one)");
   }
-  if (!model.skins.empty()) {
-    out.ignored.push_back(Plural(model.skins.size(), "skin", "skins") + " (meshes unskinned)");
-  }
-  size_t morphed = 0;
-  for (const tinygltf::Mesh& m : model.meshes) {
-    for (const tinygltf::Primitive& p : m.primitives) morphed += p.targets.empty() ? 0 : 1;
-  }
-  if (morphed > 0) out.ignored.push_back("morph targets (the base shapes are rendered)");
   for (const std::string& name : model.extensionsUsed) {
     if (!IsReadExtension(name)) out.ignored.push_back("extension " + name);
   }
@@ -219,13 +212,13 @@ void CheckGltfRequiredExtensions(const std::vector<std::string>& required) {
 }
 
 GltfSceneContents ReadGltfSceneContents(const tinygltf::Model& model,
-                                        const glm::dmat4& objectToWorld) {
+                                        const glm::dmat4& objectToWorld, bool animated) {
   GltfSceneContents out;
   SceneReader reader(model, out);
   for (int root : GltfRootNodes(model)) reader.Visit(root, objectToWorld, 0);
   std::sort(out.cameras.begin(), out.cameras.end(),
             [](const GltfCamera& a, const GltfCamera& b) { return a.index < b.index; });
-  ListIgnored(model, reader, out);
+  ListIgnored(model, reader, animated, out);
   return out;
 }
 
