@@ -147,6 +147,21 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          o.camera = s.Take();
          if (o.camera.empty()) throw CliError("empty camera for --camera (an index or a name)");
        }},
+      {"--animation",
+       [](CliOptions& o, ValueSource& s) {
+         o.animation = s.Take();
+         if (o.animation.empty()) throw CliError("empty animation for --animation (an index or a name)");
+       }},
+      {"--time",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         char* end = nullptr;
+         double t = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !std::isfinite(t) || std::fabs(t) > 1e30) {
+           throw CliError("bad number for --time: '" + text + "' (expected seconds)");
+         }
+         o.time = t;
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {

@@ -35,6 +35,10 @@ Image and sampling
 Camera and environment
   --camera N|NAME          the glTF camera to render through, by index or name (default: the
                            file's first perspective camera, else an automatic one)
+  --time SECONDS           pose glTF files at this time of an animation: node motion, skins,
+                           morph targets, cameras (default: the file's static pose)
+  --animation N|NAME|all   the glTF animation --time poses, by index or name, or all at once
+                           (default 0; alone: posed at its start)
   --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
                            the scene's environment or background
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)

@@ -40,6 +40,8 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   try {
     LoadOptions load;
     load.camera = cli.camera;
+    load.animation = cli.animation;
+    load.time = cli.time;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
     if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);

@@ -67,12 +67,27 @@ void AddGltfLights(const GltfSceneContents& contents, SceneDesc& scene) {
                                  contents.directionalLights.end());
 }
 
-GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink) {
+GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink,
+                                const GltfAnimationChoice& animation) {
   if (LowerExtension(path) == ".obj") {
     LoadObjMesh(path, sink);
     return {};
   }
-  return LoadGltfMesh(path, sink);
+  return LoadGltfMesh(path, sink, animation);
+}
+
+GltfAnimationChoice AnimationChoice(const LoadOptions& options, const JsonObject* o) {
+  GltfAnimationChoice choice;
+  if (o && o->Has("animation")) {
+    bool index = o->Field("animation").Raw().is_number();
+    choice.animation = index ? std::to_string(o->Integer("animation", 0, INT32_MAX))
+                             : o->String("animation");
+    if (choice.animation.empty()) o->Fail("animation", "give an index or a name");
+  }
+  if (o && o->Has("time")) choice.time = double(o->Number("time"));
+  if (!options.animation.empty()) choice.animation = options.animation;
+  if (options.time) choice.time = options.time;
+  return choice;
 }
 
 std::string GltfSceneSummary(const std::string& label, const GltfSceneContents& contents,
@@ -94,7 +109,7 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
   MeshSink sink(scene, glm::dmat4(1.0), -1, path);
   GltfSceneContents contents;
   try {
-    contents = LoadModelFile(path, sink);
+    contents = LoadModelFile(path, sink, AnimationChoice(options, nullptr));
   } catch (const std::runtime_error& e) {
     throw SceneError(path, "", e.what());
   }
@@ -134,10 +149,12 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
 }
 
 CameraDesc ParseCameraFromFile(const JsonObject& c, const std::string& baseDir,
-                               const std::string& selector) {
+                               const LoadOptions& options) {
   c.AllowOnly({"from_file", "name", "index", "transform", "fov_y", "aperture_radius",
-               "focus_distance"},
+               "focus_distance", "animation", "time"},
               "a camera from a file");
+  const std::string& selector = options.camera;
+  GltfAnimationChoice animation = AnimationChoice(options, &c);
   std::string file = c.String("from_file");
   if (LowerExtension(file) != ".gltf" && LowerExtension(file) != ".glb") {
     c.Fail("from_file", "\"" + file + "\" is not a glTF file (.gltf or .glb): only glTF has cameras");
@@ -153,7 +170,7 @@ CameraDesc ParseCameraFromFile(const JsonObject& c, const std::string& baseDir,
   }
   CameraDesc camera;
   try {
-    GltfSceneContents contents = ReadGltfSceneParts(resolved.string());
+    GltfSceneContents contents = ReadGltfSceneParts(resolved.string(), animation);
     const GltfCamera* chosen = SelectGltfCamera(contents, pick);
     if (!chosen) throw std::runtime_error("the file has no perspective camera");
     camera = chosen->desc;

@@ -42,6 +42,7 @@ struct LoadState {
   std::unordered_map<std::string, uint32_t> materials;
   std::string skippedByFile;  // "a.glb (2), b.obj (1)" for the one degenerate-triangle warning
   std::map<std::string, MeshEntry> meshTable;
+  const LoadOptions* options = nullptr;  // the command line's choices
 };
 
 AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
@@ -250,7 +251,7 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
   int skippedBefore = scene.skippedDegenerateTriangles;
   GltfSceneContents contents;
   try {
-    contents = LoadModelFile(resolved.string(), sink);
+    contents = LoadModelFile(resolved.string(), sink, AnimationChoice(*state.options, &o));
   } catch (const std::runtime_error& e) {
     o.Fail("file", "\"" + resolved.string() + "\": " + e.what());
   }
@@ -266,7 +267,8 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
 }
 
 void ParseMesh(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file"}, "a mesh");
+  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file", "animation", "time"},
+              "a mesh");
   int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
   bool lightsFromFile = o.BoolOr("lights_from_file", true);
   MeshSink sink(state.scene, glm::dmat4(ObjectTransform(o)), material, o.String("file"));
@@ -283,7 +285,7 @@ void ParseMeshTable(const JsonObject& root, LoadState& state) {
   JsonObject meshes(all);
   for (const auto& item : all.Raw().items()) {
     JsonObject m(JsonValue(item.value(), meshes.FieldPath(item.key()), state.file));
-    m.AllowOnly({"file", "material", "transform"}, "a mesh of the mesh table");
+    m.AllowOnly({"file", "material", "transform", "animation", "time"}, "a mesh of the mesh table");
     if (m.Has("material")) MaterialRef(m, state);
     if (m.Has("transform")) ParseTransform(m.Object("transform"));
     ResolveMeshFile(m, state);
@@ -425,10 +427,11 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   SceneDesc scene;
   scene.path = pathForMessages;
   LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}, {}};
+  state.options = &options;
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {
-    scene.camera = ParseCameraFromFile(camera, state.baseDir, options.camera);
+    scene.camera = ParseCameraFromFile(camera, state.baseDir, options);
   } else if (!options.camera.empty()) {
     camera.FailHere("--camera picks a camera of a glTF file, and this camera is given in the "
                     "scene (take one from a file with \"camera\": {\"from_file\": ...})");
