@@ -18,6 +18,9 @@ struct CliError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// `--env none`: the render has no environment (a file named "none" is given as ./none).
+inline constexpr const char* kEnvNone = "none";
+
 struct CliOptions {
   std::string scenePath;
   std::string outputPath;     // -o
@@ -51,7 +54,7 @@ struct CliOptions {
   TriangleTest triangleTest = TriangleTest::kWatertight;
   Toggle rayOrder = Toggle::kAuto;
   Toggle primPool = Toggle::kAuto;
-  std::string envPath;                // --env: replaces the scene's environment
+  std::string envPath;                // --env: replaces the scene's environment (kEnvNone: removes)
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)

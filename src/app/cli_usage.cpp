@@ -41,6 +41,7 @@ Camera and environment
                            (default 0; alone: posed at its start)
   --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
                            the scene's environment or background
+  --env none               no environment: only the scene's lights and emitters light it
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
   --env-sampling importance|uniform  how next-event estimation samples the map (default
                            importance: by luminance x solid angle)

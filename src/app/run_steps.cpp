@@ -44,7 +44,8 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
     load.time = cli.time;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
-    if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
+    if (cli.envPath == kEnvNone) RemoveEnvironment(&desc);
+    else if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
   } catch (const std::bad_alloc&) {
     throw;

@@ -234,7 +234,10 @@ struct Scene {
 // Builds the BVH and light table. Throws std::runtime_error on a scene it cannot render.
 Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options = {});
 
-// Resolves the camera basis (validated by the loader: up not parallel to forward).
+// Resolves the camera basis (validated by the loader: up not parallel to forward), with the
+// texture footprint of a render of `spp` samples per pixel (TextureFootprintScale); the
+// three-argument form filters as for one sample.
+Camera MakeCamera(const CameraDesc& desc, int width, int height, int spp);
 Camera MakeCamera(const CameraDesc& desc, int width, int height);
 
 // A view over host memory (the CPU backend and tests use it directly).

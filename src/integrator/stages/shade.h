@@ -10,6 +10,8 @@
 #include "src/integrator/wave.h"
 #include "src/lights/light_sample.h"
 #include "src/integrator/stages/bsdf_variant.h"
+#include "src/integrator/stages/normal_fold.h"
+#include "src/materials/shading_normal.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -82,7 +84,8 @@ PT_HDI vec3 FeatureAlbedo(const Material& m) {
 
 // Shading normals may disagree with the surface: a pair of directions is usable only when the
 // geometric surface separates them exactly as the shading frame does (reflection stays on
-// one side, transmission crosses), otherwise a ray would leak through the surface.
+// one side, transmission crosses), otherwise a ray would leak through the surface. (Curved
+// shading folds the BSDF instead of dropping such directions: normal_fold.h.)
 PT_HDI bool GeometricallyConsistent(const SurfaceInteraction& si, float woDotNg, vec3 wi,
                                     bool shadingSameSide) {
   bool geometricSameSide = woDotNg * glm::dot(wi, si.ng) > 0.0f;
@@ -117,14 +120,23 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
   LightLiSample ls;
   if (!SampleLightLi<kMap>(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
-  // Interpolated normals: a direction on the shading normal's side but through the geometric
-  // surface (or the reverse) would start its shadow ray on the wrong side, a light leak.
-  if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
-  vec3 f = EvalBsdfFor<C, Q>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  const bool mis = !ls.isDelta && params.kind == IntegratorKind::kMis;
+  const bool flat = ShadingNormalIsGeometric(si);
+  float foldedPdf = 0.0f;
+  vec3 f;
+  if (flat) {
+    if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
+    f = EvalBsdfFor<C, Q>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  } else {  // curved shading: the folded BSDF (normal_fold.h), which never leaks light
+    f = FoldedEvalCos<C, Q>(mat, si, frame, woLocal, woDotNg, ls.wi, wiLocal,
+                            mis ? &foldedPdf : nullptr);
+  }
   if (IsBlack(f) || IsBlack(ls.L)) return false;
   float weight = 1.0f;
-  if (!ls.isDelta && params.kind == IntegratorKind::kMis)
-    weight = PowerHeuristic(ls.pdf, PdfBsdfFor<C, Q>(mat, woLocal, wiLocal));
+  if (mis) {
+    float bsdfPdf = flat ? PdfBsdfFor<C, Q>(mat, woLocal, wiLocal) : foldedPdf;
+    weight = PowerHeuristic(ls.pdf, bsdfPdf);
+  }
   vec3 origin = SpawnOrigin(params, si, ls.wi);
   ps.shadowOrigin[id] = origin;
   ps.shadowDir[id] = ls.wi;
@@ -143,10 +155,15 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
   if (!SampleBsdfFor<C, Q>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
     return false;
   vec3 wi = frame.FromLocal(bs.wi);
-  // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
-  // such a ray would leak light, so the path ends instead.
-  if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
-  *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
+  float pdf = bs.pdf;
+  if (ShadingNormalIsGeometric(si)) {
+    if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
+    *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
+  } else {  // curved shading: a ray the geometry disputes is mirrored, not lost (normal_fold.h)
+    vec3 weight;
+    FoldSample<C, Q>(mat, si, frame, woLocal, glm::dot(wo, si.ng), bs, &wi, &weight, &pdf);
+    *beta *= weight;
+  }
   uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
   if (bs.isDelta) f |= kFlagSpecular;
   if (kHasMedia<C> && bs.isTransmission && !bs.passesThrough)
@@ -158,7 +175,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
     *beta /= 1.0f - q;
   }
   *flags = f;
-  ps.prevPdf[id] = bs.isDelta ? 0.0f : bs.pdf;
+  ps.prevPdf[id] = bs.isDelta ? 0.0f : pdf;
   ps.rayOrigin[id] = SpawnOrigin(params, si, wi);
   ps.rayDir[id] = wi;
   return true;
@@ -231,6 +248,8 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
     return;
   }
 
+  // Smooth and normal-mapped shading: the viewer must see the front of the shading normal.
+  si.ns = ViewValidShadingNormal(si, wo);
   Frame frame = Frame::FromZ(si.ns);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
