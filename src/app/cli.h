@@ -41,6 +41,8 @@ struct CliOptions {
   std::optional<CropWindow> crop;
   std::string sppMapPath;  // --spp-map, empty = none
   std::string camera;      // --camera, empty = the scene's own
+  std::string variant;     // --variant (KHR_materials_variants), empty = the files' own
+  bool energyCompensation = false;  // --energy-compensation
   Toggle adaptive = Toggle::kAuto;  // kAuto: the scene's setting
   LightPaths lightPaths = LightPaths::kAll;
   float rayOffsetEpsilon = 0.0f;    // 0 = robust

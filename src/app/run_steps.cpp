@@ -11,6 +11,7 @@
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/scene/effects.h"
+#include "src/scene/energy_compensation.h"
 
 namespace pt {
 namespace {
@@ -40,10 +41,12 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   try {
     LoadOptions load;
     load.camera = cli.camera;
+    load.variant = cli.variant;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
     if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
+    if (cli.energyCompensation) EnableEnergyCompensation(&desc);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -157,7 +160,8 @@ void PrintEffects(const Scene& scene, bool specialize) {
   uint32_t effects = AnalyzeEffects(scene);
   std::string names;
   for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
-  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  FeatureClass variant =
+      specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
                names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
                specialize ? "" : " (--specialize off)");

@@ -26,6 +26,9 @@ struct LoadOptions {
   // The command line brings the environment (--env): a model scene without lights then gets
   // no default environment.
   bool environmentGiven = false;
+  // --variant: the KHR_materials_variants variant of the model (of every glTF mesh of a JSON
+  // scene that names none in its "variant" field); empty = the files' own materials.
+  std::string variant{};
 };
 
 // Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or
