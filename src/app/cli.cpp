@@ -162,6 +162,11 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          }
          o.time = t;
        }},
+      {"--variant",
+       [](CliOptions& o, ValueSource& s) {
+         o.variant = s.Take();
+         if (o.variant.empty()) throw CliError("empty name for --variant (a material variant)");
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {
@@ -283,6 +288,10 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
       {"--film",
        [](CliOptions& o, ValueSource& s) {
          o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
+       }},
+      {"--energy-compensation",
+       [](CliOptions& o, ValueSource& s) {
+         o.energyCompensation = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
        }},
       {"--specialize",
        [](CliOptions& o, ValueSource& s) {

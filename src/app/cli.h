@@ -46,6 +46,8 @@ struct CliOptions {
   std::string camera;      // --camera, empty = the scene's own
   std::string animation;        // --animation, empty = the first (with --time)
   std::optional<double> time;   // --time: seconds into the animation; unset = the static pose
+  std::string variant;     // --variant (KHR_materials_variants), empty = the files' own
+  bool energyCompensation = false;  // --energy-compensation
   Toggle adaptive = Toggle::kAuto;  // kAuto: the scene's setting
   LightPaths lightPaths = LightPaths::kAll;
   float rayOffsetEpsilon = 0.0f;    // 0 = robust

@@ -11,6 +11,7 @@
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
 #include "src/scene/effects.h"
+#include "src/scene/energy_compensation.h"
 
 namespace pt {
 namespace {
@@ -42,11 +43,13 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
     load.camera = cli.camera;
     load.animation = cli.animation;
     load.time = cli.time;
+    load.variant = cli.variant;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
     if (cli.envPath == kEnvNone) RemoveEnvironment(&desc);
     else if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
+    if (cli.energyCompensation) EnableEnergyCompensation(&desc);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -160,7 +163,8 @@ void PrintEffects(const Scene& scene, bool specialize) {
   uint32_t effects = AnalyzeEffects(scene);
   std::string names;
   for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
-  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  FeatureClass variant =
+      specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
                names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
                specialize ? "" : " (--specialize off)");

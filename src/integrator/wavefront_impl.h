@@ -52,7 +52,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   stats_.primPoolUsed = primPool_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
-  featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  featureClass_ =
+      options_.specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "src/io/gltf_loader.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/image_io.h"
 #include "src/io/obj_loader.h"
 #include "src/materials/emission.h"
@@ -81,6 +82,9 @@ void AddGltfLights(const GltfSceneContents& contents, SceneDesc& scene) {
 GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink,
                                 const GltfAnimationChoice& animation) {
   if (LowerExtension(path) == ".obj") {
+    if (!sink.Variant().empty())
+      throw GltfVariantError("no material variant \"" + sink.Variant() +
+                             "\": an OBJ file has no KHR_materials_variants");
     LoadObjMesh(path, sink);
     return {};
   }
@@ -118,9 +122,12 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
   SceneDesc scene;
   scene.path = path;
   MeshSink sink(scene, glm::dmat4(1.0), -1, path);
+  sink.SetVariant(options.variant);
   GltfSceneContents contents;
   try {
     contents = LoadModelFile(path, sink, AnimationChoice(options, nullptr));
+  } catch (const GltfVariantError& e) {
+    throw SceneError(path, "--variant", e.what());
   } catch (const std::runtime_error& e) {
     throw SceneError(path, "", e.what());
   }

@@ -129,6 +129,7 @@ struct SceneDesc {
 
   std::vector<Material> materials;
   std::vector<std::string> materialNames;  // same order as materials
+  std::vector<GltfMaterialExtension> materialExtensions;  // Material::ext indexes these
 
   std::vector<Triangle> triangles;
   std::vector<TriangleNormals> triangleNormals;  // same length as triangles

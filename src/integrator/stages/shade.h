@@ -114,8 +114,8 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 // decides whether its (MIS-weighted) contribution counts.
 template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
-                             const SurfaceInteraction& si, const Material& mat, const Frame& frame,
-                             vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
+                             const SurfaceInteraction& si, const HitMaterial<C>& mat,
+                             const Frame& frame, vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
                              uint32_t id) {
   LightLiSample ls;
   if (!SampleLightLi<kMap>(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
@@ -149,7 +149,7 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
 template <FeatureClass C, uint32_t Q>
 PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
-                         const Material& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
+                         const HitMaterial<C>& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
                          uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
   BsdfSample bs;
   if (!SampleBsdfFor<C, Q>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
@@ -225,7 +225,7 @@ template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
                          const WaveInfo& wave, PathState ps, uint32_t id, PathVertex v) {
   SurfaceInteraction si = MakeInteraction(scene, v.ray, v.hit);
-  Material mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
+  HitMaterial<C> mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
   vec3 wo = -v.ray.d;
   if (params.featureBuffers && v.depth == 0)
     WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns,
@@ -239,7 +239,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
     TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
-  if constexpr (C == FeatureClass::kGeneral) {
+  if constexpr (IsGeneralClass(C)) {
     if (IsType<Q>(mat, MaterialType::kGltfPbr) && params.Counts(v.depth))
       v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf);
   }
@@ -251,6 +251,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   // Smooth and normal-mapped shading: the viewer must see the front of the shading normal.
   si.ns = ViewValidShadingNormal(si, wo);
   Frame frame = Frame::FromZ(si.ns);
+  LocalizeMaterial<C>(frame, &mat);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
   uint32_t flags = v.flags;
