@@ -250,6 +250,12 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.envSampling = ParseChoice<EnvSampling>(
              s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
         }},
+      {"--light-sampler",
+       [](CliOptions& o, ValueSource& s) {
+         o.lightSampler = ParseChoice<LightSampler>(
+             s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
+                 {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
+       }},
       {"--bvh",
        [](CliOptions& o, ValueSource& s) {
          o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(

@@ -59,6 +59,7 @@ struct CliOptions {
   std::string envPath;                // --env: replaces the scene's environment (kEnvNone: removes)
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
+  LightSampler lightSampler = LightSampler::kAuto;  // --light-sampler
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
   BvhBuilder bvhBuilder = BvhBuilder::kSah;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default

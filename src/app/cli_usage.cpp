@@ -50,6 +50,8 @@ Camera and environment
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
   --env-sampling importance|uniform  how next-event estimation samples the map (default
                            importance: by luminance x solid angle)
+  --light-sampler uniform|power|bvh|auto  how next-event estimation chooses a light (default
+                           auto: bvh with 16 or more finite lights, else power)
 
 Backend and performance
   --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)

@@ -126,6 +126,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.rayOrder = cli.rayOrder;
   options.primPool = cli.primPool;
   options.envSampling = cli.envSampling;
+  options.lightSampler = cli.lightSampler;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);

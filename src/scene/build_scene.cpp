@@ -240,6 +240,7 @@ SceneView HostSceneView(const Scene& scene) {
   v.backgroundLight = scene.backgroundLight;
   v.distantLightCount = uint32_t(scene.distantLights.size());
   v.env = scene.env;
+  v.lightTree = scene.lightTree;
   v.background = d.background * d.environment.strength;
   v.sceneCenter = scene.sceneCenter;
   v.sceneRadius = scene.sceneRadius;

@@ -190,6 +190,10 @@ struct Scene {
   std::vector<float> envRowCdf, envColumnCdf;  // the map's sampling distribution
   EnvironmentView env;
   std::vector<double> lightPower;  // host only: each light's power, what lightPmf follows
+  std::vector<LightBvhNode> lightNodes;  // the light BVH (src/lights/light_bvh_build.h)
+  std::vector<uint64_t> lightTrails;     // per finite light: its path from the root, or 0
+  LightTreeView lightTree;
+  double lightBvhBuildMs = 0.0;
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;

@@ -12,6 +12,7 @@
 #include "src/integrator/stages/bsdf_variant.h"
 #include "src/integrator/stages/normal_fold.h"
 #include "src/materials/shading_normal.h"
+#include "src/integrator/stages/light_receiver.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -52,7 +53,7 @@ PT_HDI vec3 EscapedRadiance(const SceneView& scene, IntegratorKind kind, uint32_
     uint32_t index = scene.distantLights[k];
     const Light& light = scene.lights[index];
     if (!InDirectionalCone(light, w)) continue;
-    float lightPdf = scene.lightPmf[index] * DirectionalConePdf(light);
+    float lightPdf = InfiniteLightPmf(scene, index) * DirectionalConePdf(light);
     radiance += beta * light.radiance * EmitterHitWeight(kind, flags, prevPdf, lightPdf);
   }
   return radiance;
@@ -92,15 +93,22 @@ PT_HDI bool GeometricallyConsistent(const SurfaceInteraction& si, float woDotNg,
   return geometricSameSide == shadingSameSide;
 }
 
+// Whether EmitterHitWeight reads the light pdf: MIS after a non-delta bounce (a light tree's
+// pmf walk is not free, so camera rays that see emitters skip it).
+PT_HDI bool HitNeedsLightPdf(IntegratorKind kind, uint32_t flags) {
+  return kind == IntegratorKind::kMis && (flags & kFlagSpecular) == 0;
+}
+
 // Emission of a surface that also scatters (glTF emissive): MIS-weighted against light
 // sampling when the primitive is in the light table, in full when it is not (next-event
-// estimation cannot find it then).
+// estimation cannot find it then). `from`: the previous vertex (PrevVertexRef).
 PT_HDI vec3 SurfaceEmission(const SceneView& scene, const IntegratorParams& params,
                             const SurfaceInteraction& si, const Material& mat, const Ray& ray,
-                            uint32_t flags, float prevPdf) {
+                            uint32_t flags, float prevPdf, const LightRef& from) {
   vec3 le = EmittedRadiance(mat, si.ng, -ray.d);
   if (IsBlack(le) || si.light < 0) return le;
-  float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
+  float lightPdf = HitNeedsLightPdf(params.kind, flags)
+                       ? LightPdf(scene, si.light, from, si.p, si.ng) : 0.0f;
   return le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
 }
 
@@ -115,10 +123,12 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const HitMaterial<C>& mat,
-                             const Frame& frame, vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
-                             uint32_t id) {
+                             const Frame& frame, vec3 woLocal, float woDotNg, vec3 beta, vec4 u,
+                             PathState ps, uint32_t id, uint32_t receiver) {
   LightLiSample ls;
-  if (!SampleLightLi<kMap>(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
+  if (!SampleLightLi<kMap>(scene, ReceiverRef(si.p, receiver), u.x, u.w, vec2(u.y, u.z), &ls) ||
+      ls.pdf <= 0.0f)
+    return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
   const bool mis = !ls.isDelta && params.kind == IntegratorKind::kMis;
   const bool flat = ShadingNormalIsGeometric(si);
@@ -233,7 +243,9 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   if (IsType<Q>(mat, MaterialType::kEmissive)) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
     if (!IsBlack(le) && si.light >= 0 && params.Counts(v.depth)) {
-      float lightPdf = LightPdf<kMap>(scene, si.light, v.ray.o, si.p, si.ng);
+      LightRef from = PrevVertexRef(scene, ps, id, v.flags, v.ray.o);
+      float lightPdf = HitNeedsLightPdf(params.kind, v.flags)
+                           ? LightPdf<kMap>(scene, si.light, from, si.p, si.ng) : 0.0f;
       v.radiance += v.beta * le * EmitterHitWeight(params.kind, v.flags, v.prevPdf, lightPdf);
     }
     TerminatePath(ps, id, v.flags, v.radiance);
@@ -241,7 +253,8 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   }
   if constexpr (IsGeneralClass(C)) {
     if (IsType<Q>(mat, MaterialType::kGltfPbr) && params.Counts(v.depth))
-      v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf);
+      v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf,
+                                             PrevVertexRef(scene, ps, id, v.flags, v.ray.o));
   }
   if (int(v.depth) >= params.maxDepth) {
     TerminatePath(ps, id, v.flags, v.radiance);
@@ -255,11 +268,12 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
   uint32_t flags = v.flags;
+  uint32_t receiver = SurfaceReceiver(scene, si, wo, mat);  // light BVH only
   if (params.kind != IntegratorKind::kBsdf && params.Counts(v.depth + 1) &&
       HasNonDeltaLobeFor<C, Q>(mat)) {
     vec4 uLight = key.Draw4(v.depth, kDimLight);
     if (QueueLightSample<C, Q, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
-                               v.beta, uLight, ps, id))
+                               v.beta, uLight, ps, id, receiver))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(v.depth, kDimBsdf);
@@ -268,6 +282,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   ps.throughput[id] = v.beta;
   ps.radiance[id] = v.radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
+  if (alive && UsesLightTree(scene)) ps.prevNormal[id] = receiver;
 }
 
 // Shades path id in the variant of feature class C; Q: the shade queue the kernel serves
