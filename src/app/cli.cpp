@@ -158,6 +158,10 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          }
          o.envStrength = float(v);
        }},
+      {"--fog",
+       [](CliOptions& o, ValueSource& s) {
+         o.fogSigmaS = float(ParsePositiveNumber(s, "a scattering coefficient per unit length"));
+       }},
       {"--max-paths",
        [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
       {"--clamp",
@@ -230,6 +234,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.envSampling = ParseChoice<EnvSampling>(
              s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
         }},
+      {"--transmittance",
+       [](CliOptions& o, ValueSource& s) {
+         o.transmittance = ParseChoice<TransmittanceMode>(
+             s, {{"ratio", TransmittanceMode::kRatio}, {"delta", TransmittanceMode::kDelta}});
+       }},
       {"--bvh",
        [](CliOptions& o, ValueSource& s) {
          o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(

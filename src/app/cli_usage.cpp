@@ -40,6 +40,11 @@ Camera and environment
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
   --env-sampling importance|uniform  how next-event estimation samples the map (default
                            importance: by luminance x solid angle)
+  --fog SIGMA_S            fill the space around the camera with a homogeneous, white,
+                           isotropic medium scattering SIGMA_S per unit length (replaces the
+                           scene's "medium"; docs/media.md)
+  --transmittance ratio|delta  how shadow rays estimate transmittance through grid media
+                           (default ratio tracking; delta: the binary estimator, a study)
 
 Backend and performance
   --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)

@@ -31,6 +31,7 @@ constexpr std::pair<const char*, const char*> kIdentity[] = {
     {"adaptive", "adaptive sampling"},
     {"environment", "environment (--env, --env-strength)"},
     {"env_sampling", "environment sampling"},
+    {"media", "media (--fog, --transmittance)"},
 };
 
 const char* IntegratorName(IntegratorMode m) {
@@ -106,6 +107,9 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
+      {"media", (cli.fogSigmaS ? "--fog " + Json(*cli.fogSigmaS).dump() : std::string("no --fog")) +
+                    (options.transmittance == TransmittanceMode::kDelta ? ", delta tracking"
+                                                                        : ", ratio tracking")},
       {"film", options.filmDouble ? "double" : "float"},
   };
 }

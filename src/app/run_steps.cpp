@@ -10,6 +10,7 @@
 #include "src/io/environment_loader.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
+#include "src/media/media_tables.h"
 #include "src/scene/effects.h"
 
 namespace pt {
@@ -44,6 +45,7 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
     desc = LoadScene(cli.scenePath, load);
     if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
+    if (cli.fogSigmaS) ApplyFog(*cli.fogSigmaS, &desc);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -120,6 +122,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.rayOrder = cli.rayOrder;
   options.primPool = cli.primPool;
   options.envSampling = cli.envSampling;
+  options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);

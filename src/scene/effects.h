@@ -32,6 +32,7 @@ enum Effect : uint32_t {
   kEffectEmissiveTextures = 1u << 18,
   kEffectBackfaceCulling = 1u << 19,    // single-sided glTF materials (the intersector's)
   kEffectSpotLights = 1u << 20,
+  kEffectMedia = 1u << 21,              // participating media: the media stages run (src/media/)
 };
 
 // Effects of the materials some primitive uses, the lights and the camera.
