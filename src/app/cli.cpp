@@ -178,6 +178,10 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          }
          o.envStrength = float(v);
        }},
+      {"--fog",
+       [](CliOptions& o, ValueSource& s) {
+         o.fogSigmaS = float(ParsePositiveNumber(s, "a scattering coefficient per unit length"));
+       }},
       {"--max-paths",
        [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
       {"--clamp",
@@ -255,6 +259,10 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.lightSampler = ParseChoice<LightSampler>(
              s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
                  {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
+      {"--transmittance",
+       [](CliOptions& o, ValueSource& s) {
+         o.transmittance = ParseChoice<TransmittanceMode>(
+             s, {{"ratio", TransmittanceMode::kRatio}, {"delta", TransmittanceMode::kDelta}});
        }},
       {"--bvh",
        [](CliOptions& o, ValueSource& s) {

@@ -60,6 +60,8 @@ struct CliOptions {
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
   LightSampler lightSampler = LightSampler::kAuto;  // --light-sampler
+  std::optional<float> fogSigmaS;     // --fog: a homogeneous medium around the camera
+  TransmittanceMode transmittance = TransmittanceMode::kRatio;  // --transmittance
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
   BvhBuilder bvhBuilder = BvhBuilder::kSah;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default

@@ -52,6 +52,11 @@ Camera and environment
                            importance: by luminance x solid angle)
   --light-sampler uniform|power|bvh|auto  how next-event estimation chooses a light (default
                            auto: bvh with 16 or more finite lights, else power)
+  --fog SIGMA_S            fill the space around the camera with a homogeneous, white,
+                           isotropic medium scattering SIGMA_S per unit length (replaces the
+                           scene's "medium"; docs/media.md)
+  --transmittance ratio|delta  how shadow rays estimate transmittance through grid media
+                           (default ratio tracking; delta: the binary estimator, a study)
 
 Backend and performance
   --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)

@@ -32,6 +32,7 @@ constexpr std::pair<const char*, const char*> kIdentity[] = {
     {"environment", "environment (--env, --env-strength)"},
     {"env_sampling", "environment sampling"},
     {"texture_filter", "texture filter footprint (follows --spp below 64 spp)"},
+    {"media", "media (--fog, --transmittance)"},
 };
 
 const char* IntegratorName(IntegratorMode m) {
@@ -108,6 +109,9 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
+      {"media", (cli.fogSigmaS ? "--fog " + Json(*cli.fogSigmaS).dump() : std::string("no --fog")) +
+                    (options.transmittance == TransmittanceMode::kDelta ? ", delta tracking"
+                                                                        : ", ratio tracking")},
       {"film", options.filmDouble ? "double" : "float"},
       // Only a textured scene's image depends on it (a larger --spp then changes the image).
       {"texture_filter", scene.desc.textures.empty() ? Json("no textures")

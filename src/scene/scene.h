@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "src/media/media_desc.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -150,6 +151,7 @@ struct SceneDesc {
   std::vector<Texture> textures;
   std::vector<TextureRef> textureRefs;  // Material texture slots index these
   std::vector<uint32_t> texels;  // RGBA8 pyramids of every texture, back to back
+  MediaDesc media;  // participating media (src/media/): empty in a scene without them
 
   std::vector<std::string> warnings;  // printed by the app (glTF fallbacks and the like)
   int skippedDegenerateTriangles = 0;
