@@ -402,6 +402,15 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   return options;
 }
 
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options) {
+  const Handler* handler = FindHandler(name);
+  if (!handler) throw CliError("unknown option " + name);
+  const std::vector<std::string> noArguments;
+  size_t next = 0;
+  ValueSource source(name, value, noArguments, &next);
+  (*handler)(*options, source);
+}
+
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {
   if (cli.spp) settings->spp = *cli.spp;
   if (cli.width) settings->width = *cli.width;
