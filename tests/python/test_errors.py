@@ -97,3 +97,12 @@ def test_refused_edits_leave_the_scene_unchanged(cornell):
     instanced = pathtracer.Scene(SCENES / "instanced_shapes.json")
     with pytest.raises(ValueError, match=r"objects\[3\]\.transform"):
         instanced.set_instance_transform(0, np.zeros((4, 4)))
+
+
+def test_unknown_gltf_camera_raises_the_cli_message(tmp_path):
+    model = SCENES / "meshes" / "smooth_shapes.glb"
+    status, message = cli_error([model, "-o", tmp_path / "x.png", "--camera", "Main"])
+    assert status == 2 and "--camera" in message
+    with pytest.raises(ValueError) as error:
+        pathtracer.Scene(model, camera="Main")
+    assert str(error.value) == message
