@@ -259,6 +259,7 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.lightSampler = ParseChoice<LightSampler>(
              s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
                  {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
+       }},
       {"--transmittance",
        [](CliOptions& o, ValueSource& s) {
          o.transmittance = ParseChoice<TransmittanceMode>(
@@ -438,6 +439,15 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   }
   if (!options.help && !options.version) CheckRequired(options);
   return options;
+}
+
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options) {
+  const Handler* handler = FindHandler(name);
+  if (!handler) throw CliError("unknown option " + name);
+  const std::vector<std::string> noArguments;
+  size_t next = 0;
+  ValueSource source(name, value, noArguments, &next);
+  (*handler)(*options, source);
 }
 
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {

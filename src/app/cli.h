@@ -94,6 +94,12 @@ inline constexpr int kRussianRouletteOff = 1 << 30;
 // other checks (scene, -o) are skipped.
 CliOptions ParseCli(int argc, const char* const* argv);
 
+// One option as ParseCli applies it, by its command-line name ("--max-depth") and its value
+// text: the same checks and messages. For front ends that take options from elsewhere (the
+// Python module's keywords, src/scripting/). Throws CliError for an unknown option, a flag
+// without a value (--quiet, --help) or a bad value.
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options);
+
 // The text --help prints.
 std::string CliUsage();
 
