@@ -42,7 +42,7 @@ PT_HDI bool SidesAgree(float woDotNg, float wiDotNg, float woLocalZ, float wiLoc
 // The folded f~ |cos~| and p~ at a world direction wi (wiLocal in the shading frame), for
 // next-event estimation. pdf may be null when the caller needs no density.
 template <FeatureClass C, uint32_t Q>
-PT_HDI vec3 FoldedEvalCos(const Material& m, const SurfaceInteraction& si, const Frame& frame,
+PT_HDI vec3 FoldedEvalCos(const HitMaterial<C>& m, const SurfaceInteraction& si, const Frame& frame,
                           vec3 woLocal, float woDotNg, vec3 wi, vec3 wiLocal, float* pdf) {
   vec3 f(0.0f);
   float p = 0.0f;
@@ -64,7 +64,7 @@ PT_HDI vec3 FoldedEvalCos(const Material& m, const SurfaceInteraction& si, const
 // on the side the lobe means, and the path weight f~ |cos~| / p~ goes to *weight, p~ to *pdf.
 // A delta lobe's sample is mirrored with its weight unchanged (no density to fold).
 template <FeatureClass C, uint32_t Q>
-PT_HDI void FoldSample(const Material& m, const SurfaceInteraction& si, const Frame& frame,
+PT_HDI void FoldSample(const HitMaterial<C>& m, const SurfaceInteraction& si, const Frame& frame,
                        vec3 woLocal, float woDotNg, const BsdfSample& bs, vec3* wi,
                        vec3* weight, float* pdf) {
   vec3 mirrored = MirrorAcrossSurface(*wi, si.ng);
