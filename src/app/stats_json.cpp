@@ -63,6 +63,7 @@ Json TimesJson(const RenderStats& stats, const AppTimes& times) {
                               {"shadow", s.shadow},
                               {"compact", s.compact},
                               {"accumulate", s.accumulate},
+                              {"medium", s.medium},
                               {"shade_queues", ShadeQueueTimesJson(s)}}}};
 }
 

@@ -41,6 +41,7 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.clampLuminance = o.clampLuminance;
   options_.lightSampler = o.lightSampler;
   ApplyLightSampler();
+  options_.transmittance = o.transmittance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
@@ -54,12 +55,16 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   stats_.primPoolUsed = primPool_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
-  featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  featureClass_ =
+      options_.specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
               options_.triangleTest == TriangleTest::kBoxClamped;
   stats_.specialization = FeatureClassName(featureClass_);
+  media_.SetEstimator(options_.transmittance == TransmittanceMode::kDelta
+                          ? TransmittanceEstimator::kDelta
+                          : TransmittanceEstimator::kRatio);
   ApplySortOptions();
   static_assert(uint32_t(TriangleTest::kMollerTrumbore) == kTriTestMollerTrumbore &&
                 uint32_t(TriangleTest::kBoxClamped) == kTriTestBoxClamped);
@@ -86,6 +91,10 @@ void WavefrontIntegrator<Backend>::ApplySortOptions() {
   SortChoice choice =
       ChooseSortMode(options_.sort, shade_.Keys(), featureClass_, Backend::kLockstepLanes);
   sortMode_ = choice.mode;
+  if (media_.Active() && sortMode_ != SortMode::kOff) {  // media variants shade in queue order
+    sortMode_ = SortMode::kOff;
+    choice.reason = "media scenes shade in queue order";
+  }
   bool ordering = sortMode_ != SortMode::kOff;
   if (ordering && queue_.Size() > 0) shade_.EnsureOrdering(queue_.Size());
   stats_.sortUsed = ordering;
@@ -100,6 +109,8 @@ template <typename Backend>
 void WavefrontIntegrator<Backend>::SceneChanged() {
   EnsureAllocated();
   UploadSceneArrays(scene_, sceneBuffers_, [](const char*) { return true; });
+  media_.SetScene(scene_);
+  media_.AllocatePaths(queue_.Size());
   if (scene_.HasInstances() && hitInstance_.Size() < queue_.Size()) {
     hitInstance_.Resize(queue_.Size());
     pathState_.hitInstance = hitInstance_.Data();
@@ -131,6 +142,7 @@ void WavefrontIntegrator<Backend>::Allocate() {
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
+  media_.SetScene(scene_);
   ApplyOptions(options_);
   // Adaptive waves over fewer pixels pack more samples per wave: up to the path budget.
   size_t capacity = plan_.pathCapacity;
@@ -156,6 +168,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   if (sortMode_ != SortMode::kOff) shade_.EnsureOrdering(n);
   hit_.Resize(n);
   hitInstance_.Resize(scene_.HasInstances() ? n : 0);
+  media_.AllocatePaths(n);
   // Feature buffers exist only when asked for: a render without them pays nothing.
   size_t features = params_.featureBuffers ? n : 0;
   featureAlbedo_.Resize(features);
@@ -173,7 +186,8 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                                  (rayOrder_ ? 3 * sizeof(uint32_t) : 0) +
                                  (params_.featureBuffers ? kFeatureBytes : 0) +
                                  (scene_.HasInstances() ? kInstanceHitBytes : 0) +
-                                 (lightSampler_ == LightSampler::kBvh ? kReceiverBytes : 0);
+                                 (lightSampler_ == LightSampler::kBvh ? kReceiverBytes : 0) +
+                                 media_.BytesPerPath();
 }
 
 template <typename Backend>

@@ -4,6 +4,7 @@
 
 #include "src/lights/light_bvh_types.h"
 #include "src/scene/instance_types.h"
+#include "src/scene/material_extension.h"
 #include "src/scene/scene_types.h"
 
 namespace pt {
@@ -33,6 +34,7 @@ namespace pt {
   X(WideBvhNode, tlasWideNodes, s.tlasWideNodes) /* top level, wide layout */              \
   /* Appearance and light. */                                                               \
   X(Material, materials, s.desc.materials)                                                  \
+  X(GltfMaterialExtension, materialExts, s.desc.materialExtensions) /* Material::ext */      \
   X(Texture, textures, s.desc.textures)                                                     \
   X(TextureRef, textureRefs, s.desc.textureRefs) /* what materials' texture slots index */  \
   X(uint32_t, texels, s.desc.texels) /* RGBA8 pyramids of every texture, back to back */    \
