@@ -60,6 +60,7 @@ struct RenderOptions {
   EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
   int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
+  LightSampler lightSampler = LightSampler::kAuto;  // how next-event estimation picks a light
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // shadow rays in grid media
 };
 
@@ -116,6 +117,7 @@ struct RenderStats {
   std::string sortReason;          // why auto chose it (the rule, or the calibration)
   uint64_t pathsOrdered = 0;       // paths ordered, summed over bounces
   std::string specialization;  // the stage variant that ran
+  std::string lightSampler;    // the light sampler that ran (auto's choice)
   std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
 };
 

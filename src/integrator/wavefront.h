@@ -31,6 +31,7 @@
 #include "src/integrator/stages/shade.h"
 #include "src/integrator/stages/shadow.h"
 #include "src/integrator/wave_plan.h"
+#include "src/lights/light_bvh_build.h"
 
 namespace pt {
 
@@ -361,6 +362,7 @@ class WavefrontIntegrator {
   }
   void ApplyOptions(const RenderOptions& options);
   void ApplySortOptions();
+  void ApplyLightSampler();
   void SceneChanged();
   void TopLevelChanged();
   void MaterialsChanged();
@@ -415,6 +417,7 @@ class WavefrontIntegrator {
   MediaPass<Backend> media_{backend_};  // participating media (inactive without them)
   Buffer<PathHit> hit_;
   Buffer<uint32_t> hitInstance_;
+  Buffer<uint32_t> prevNormal_;  // the light BVH sampler's receiver normals
   Buffer<vec3> featureAlbedo_, featureNormal_;
   Buffer<float> featureDepth_;
   PathState pathState_{};
@@ -425,6 +428,7 @@ class WavefrontIntegrator {
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
   bool envMap_ = false;  // the scene has an environment map
+  LightSampler lightSampler_ = LightSampler::kPower;  // auto resolved
   // The hit-test traversal variants: some material asks for a hit test (alpha, back-face
   // culling), or --tri-test box-clamped (whose raise only they compile).
   bool hitTests_ = true;

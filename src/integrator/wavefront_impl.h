@@ -39,6 +39,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.timeLimitSeconds = o.timeLimitSeconds;
   options_.previewEverySeconds = o.previewEverySeconds;
   options_.clampLuminance = o.clampLuminance;
+  options_.lightSampler = o.lightSampler;
+  ApplyLightSampler();
   options_.transmittance = o.transmittance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
@@ -53,7 +55,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   stats_.primPoolUsed = primPool_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
-  featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  featureClass_ =
+      options_.specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
@@ -67,6 +70,18 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
                 uint32_t(TriangleTest::kBoxClamped) == kTriTestBoxClamped);
   sceneBuffers_.view.triangleTest = uint32_t(options_.triangleTest);
   sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
+}
+
+// The light sampler auto's rule or the options choose; the BVH's receiver normals per path.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::ApplyLightSampler() {
+  lightSampler_ = ChooseLightSampler(options_.lightSampler, scene_);
+  stats_.lightSampler = LightSamplerName(lightSampler_);
+  sceneBuffers_.view.lightTree.sampler = uint32_t(lightSampler_);
+  if (lightSampler_ == LightSampler::kBvh && prevNormal_.Size() < queue_.Size()) {
+    prevNormal_.Resize(queue_.Size());
+    pathState_.prevNormal = prevNormal_.Data();
+  }
 }
 
 // The shading order: auto's choice from the scene's materials, the keys, the ordering buffers.
@@ -164,11 +179,14 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          hit_.Data(),            shadowOrigin_.Data(),  shadowDir_.Data(),
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
                          featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
+  prevNormal_.Resize(lightSampler_ == LightSampler::kBvh ? n : 0);
+  pathState_.prevNormal = prevNormal_.Data();
   stats_.pathsInFlight = n;
   stats_.pathStateBytesPerPath = kPathStateBytes + shade_.BytesPerPath() +
                                  (rayOrder_ ? 3 * sizeof(uint32_t) : 0) +
                                  (params_.featureBuffers ? kFeatureBytes : 0) +
                                  (scene_.HasInstances() ? kInstanceHitBytes : 0) +
+                                 (lightSampler_ == LightSampler::kBvh ? kReceiverBytes : 0) +
                                  media_.BytesPerPath();
 }
 

@@ -12,6 +12,7 @@
 
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/image_io.h"
 #include "src/io/media_json.h"
 #include "src/io/model_scene.h"
@@ -43,6 +44,8 @@ struct LoadState {
   std::unordered_map<std::string, uint32_t> materials;
   std::string skippedByFile;  // "a.glb (2), b.obj (1)" for the one degenerate-triangle warning
   std::map<std::string, MeshEntry> meshTable;
+  const LoadOptions* options = nullptr;  // the command line's choices
+  std::string variant;  // --variant (LoadOptions::variant)
 };
 
 AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
@@ -275,8 +278,14 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
   size_t trianglesBefore = scene.triangles.size();
   int skippedBefore = scene.skippedDegenerateTriangles;
   GltfSceneContents contents;
+  bool own = o.Has("variant");
+  sink.SetVariant(own ? o.String("variant") : state.variant);
   try {
-    contents = LoadModelFile(resolved.string(), sink);
+    contents = LoadModelFile(resolved.string(), sink, AnimationChoice(*state.options, &o));
+  } catch (const GltfVariantError& e) {
+    std::string what = "\"" + resolved.string() + "\": " + e.what();
+    if (own) o.Fail("variant", what);
+    throw SceneError(state.file, "--variant", what);
   } catch (const std::runtime_error& e) {
     o.Fail("file", "\"" + resolved.string() + "\": " + e.what());
   }
@@ -292,8 +301,8 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
 }
 
 void ParseMesh(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file", "interior",
-               "exterior"},
+  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file", "animation", "time",
+               "variant", "interior", "exterior"},
               "a mesh");
   int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
   bool lightsFromFile = o.BoolOr("lights_from_file", true);
@@ -316,7 +325,8 @@ void ParseMeshTable(const JsonObject& root, LoadState& state) {
   JsonObject meshes(all);
   for (const auto& item : all.Raw().items()) {
     JsonObject m(JsonValue(item.value(), meshes.FieldPath(item.key()), state.file));
-    m.AllowOnly({"file", "material", "transform"}, "a mesh of the mesh table");
+    m.AllowOnly({"file", "material", "transform", "animation", "time", "variant"},
+                "a mesh of the mesh table");
     RefuseInterface(m, "instanced meshes cannot bound media (use a \"mesh\" object)");
     if (m.Has("material")) MaterialRef(m, state);
     if (m.Has("transform")) ParseTransform(m.Object("transform"));
@@ -462,10 +472,12 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   SceneDesc scene;
   scene.path = pathForMessages;
   LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}, {}};
+  state.options = &options;
+  state.variant = options.variant;
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {
-    scene.camera = ParseCameraFromFile(camera, state.baseDir, options.camera);
+    scene.camera = ParseCameraFromFile(camera, state.baseDir, options);
   } else if (!options.camera.empty()) {
     camera.FailHere("--camera picks a camera of a glTF file, and this camera is given in the "
                     "scene (take one from a file with \"camera\": {\"from_file\": ...})");
