@@ -10,6 +10,7 @@
 #include "src/io/environment_loader.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
+#include "src/media/media_tables.h"
 #include "src/scene/effects.h"
 #include "src/scene/energy_compensation.h"
 
@@ -41,12 +42,16 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   try {
     LoadOptions load;
     load.camera = cli.camera;
+    load.animation = cli.animation;
+    load.time = cli.time;
     load.variant = cli.variant;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
-    if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
+    if (cli.envPath == kEnvNone) RemoveEnvironment(&desc);
+    else if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
     if (cli.energyCompensation) EnableEnergyCompensation(&desc);
+    if (cli.fogSigmaS) ApplyFog(*cli.fogSigmaS, &desc);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -123,6 +128,8 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.rayOrder = cli.rayOrder;
   options.primPool = cli.primPool;
   options.envSampling = cli.envSampling;
+  options.lightSampler = cli.lightSampler;
+  options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);

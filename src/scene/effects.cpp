@@ -68,6 +68,7 @@ uint32_t AnalyzeEffects(const Scene& scene) {
   if (!d.pointLights.empty()) e |= kEffectPointLights;
   if (!d.spotLights.empty()) e |= kEffectSpotLights;
   if (d.camera.apertureRadius > 0.0f) e |= kEffectDepthOfField;
+  if (d.media.Active()) e |= kEffectMedia;
   return e;
 }
 
@@ -81,7 +82,8 @@ std::vector<std::string> EffectNames(uint32_t effects) {
                                  "transmission", "emissive_textures", "backface_culling",
                                  "spot_lights",  "specular",        "clearcoat",
                                  "sheen",        "iridescence",     "anisotropy",
-                                 "diffuse_transmission", "unlit",   "energy_compensation"};
+                                 "diffuse_transmission", "unlit",   "energy_compensation",
+                                 "media"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);

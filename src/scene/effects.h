@@ -42,6 +42,7 @@ enum Effect : uint32_t {
   kEffectDiffuseTransmission = 1u << 26,
   kEffectUnlit = 1u << 27,
   kEffectEnergyCompensation = 1u << 28,
+  kEffectMedia = 1u << 29,              // participating media: the media stages run (src/media/)
 };
 
 // The effects only the layered variant runs.

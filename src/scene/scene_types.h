@@ -260,6 +260,7 @@ struct Camera {
   float tanHalfFovY;
   float aspect;             // width / height of the whole image
   float pixelSpread;        // 2 tanHalfFovY / height: a pixel's angular width at the centre
+  float textureFootprint;   // fraction of a pixel textures filter over (TextureFootprintScale)
   float apertureRadius;
   float focusDistance;      // to the plane perpendicular to forward
 };
