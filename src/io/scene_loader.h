@@ -29,8 +29,8 @@ struct LoadOptions {
   bool environmentGiven = false;
   // --animation and --time: the pose of every glTF file the scene loads (each replaces a JSON
   // scene's "animation" and "time" fields); unset = the file's static pose.
-  std::string animation;
-  std::optional<double> time;
+  std::string animation = {};
+  std::optional<double> time = {};
 };
 
 // Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or
