@@ -162,6 +162,11 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          }
          o.time = t;
        }},
+      {"--variant",
+       [](CliOptions& o, ValueSource& s) {
+         o.variant = s.Take();
+         if (o.variant.empty()) throw CliError("empty name for --variant (a material variant)");
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {
@@ -172,6 +177,10 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
            throw CliError("bad value for --env-strength: '" + text + "' (a number >= 0)");
          }
          o.envStrength = float(v);
+       }},
+      {"--fog",
+       [](CliOptions& o, ValueSource& s) {
+         o.fogSigmaS = float(ParsePositiveNumber(s, "a scattering coefficient per unit length"));
        }},
       {"--max-paths",
        [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
@@ -245,6 +254,17 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.envSampling = ParseChoice<EnvSampling>(
              s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
         }},
+      {"--light-sampler",
+       [](CliOptions& o, ValueSource& s) {
+         o.lightSampler = ParseChoice<LightSampler>(
+             s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
+                 {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
+       }},
+      {"--transmittance",
+       [](CliOptions& o, ValueSource& s) {
+         o.transmittance = ParseChoice<TransmittanceMode>(
+             s, {{"ratio", TransmittanceMode::kRatio}, {"delta", TransmittanceMode::kDelta}});
+       }},
       {"--bvh",
        [](CliOptions& o, ValueSource& s) {
          o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(
@@ -283,6 +303,10 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
       {"--film",
        [](CliOptions& o, ValueSource& s) {
          o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
+       }},
+      {"--energy-compensation",
+       [](CliOptions& o, ValueSource& s) {
+         o.energyCompensation = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
        }},
       {"--specialize",
        [](CliOptions& o, ValueSource& s) {
@@ -415,6 +439,15 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   }
   if (!options.help && !options.version) CheckRequired(options);
   return options;
+}
+
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options) {
+  const Handler* handler = FindHandler(name);
+  if (!handler) throw CliError("unknown option " + name);
+  const std::vector<std::string> noArguments;
+  size_t next = 0;
+  ValueSource source(name, value, noArguments, &next);
+  (*handler)(*options, source);
 }
 
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {

@@ -13,6 +13,7 @@
 #include "src/io/gltf_deform.h"
 #include "src/io/gltf_document.h"
 #include "src/io/gltf_material.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/gltf_nodes.h"
 #include "src/io/gltf_scene.h"
 
@@ -46,8 +47,9 @@ tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedIm
 // Walks the node hierarchy and emits each mesh's triangles.
 class GltfWalker {
  public:
-  GltfWalker(const tinygltf::Model& model, const GltfEncodedImages& images, MeshSink& sink)
-      : model_(model), sink_(sink), materials_(model, images, sink) {}
+  GltfWalker(const tinygltf::Model& model, const GltfEncodedImages& images, MeshSink& sink,
+             int variant)
+      : model_(model), sink_(sink), materials_(model, images, sink), variant_(variant) {}
 
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
     const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
@@ -152,16 +154,17 @@ class GltfWalker {
     std::vector<vec3> positions = ReadVec3s(model_, position->second);
     size_t n = positions.size();
     std::vector<vec3> normals = Attribute(p, "NORMAL", n, ReadVec3s);
-    uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(p.material);
+    int own = GltfVariantMaterial(p, variant_);
+    uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(own);
     // Only what the material reads is kept: a scene pays for the per-vertex data it uses.
-    GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(p.material);
+    GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(own);
     std::vector<vec2> uvs[2];
     for (int set = 0; set < 2; ++set) {
       if (!needs.uv[set]) continue;
       std::string name = "TEXCOORD_" + std::to_string(set);
       uvs[set] = Attribute(p, name.c_str(), n, ReadVec2s);
       if (uvs[set].empty()) {
-        materials_.Note("textures read at (0, 0) on primitives without " + name, p.material);
+        materials_.Note("textures read at (0, 0) on primitives without " + name, own);
         uvs[set].assign(n, vec2(0.0f));  // explicit zeros, not the barycentrics
       }
     }
@@ -210,6 +213,7 @@ class GltfWalker {
   const tinygltf::Model& model_;
   MeshSink& sink_;
   GltfMaterialTable materials_;
+  int variant_;  // KHR_materials_variants index, -1: the primitives' own materials
   bool warnedMode_ = false;
   std::vector<int> meshUses_;
   std::vector<glm::dmat4> nodeWorld_;    // every node's, once a skin needs them
@@ -224,7 +228,7 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
   tinygltf::Model model = ReadModel(path, sink, images);
   GltfPoseReport pose = ApplyGltfAnimation(model, animation);
   if (!pose.warning.empty()) sink.Warn(pose.warning);
-  GltfWalker walker(model, images, sink);
+  GltfWalker walker(model, images, sink, GltfVariantIndex(model, sink.Variant()));
   int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();

@@ -31,6 +31,9 @@ struct LoadOptions {
   // scene's "animation" and "time" fields); unset = the file's static pose.
   std::string animation = {};
   std::optional<double> time = {};
+  // --variant: the KHR_materials_variants variant of the model (of every glTF mesh of a JSON
+  // scene that names none in its "variant" field); empty = the files' own materials.
+  std::string variant{};
 };
 
 // Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or
