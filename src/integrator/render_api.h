@@ -58,6 +58,7 @@ struct RenderOptions {
   EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
   int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
+  bool halfFilms = false;            // also the even-indexed samples' sum (--denoise's halves)
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -68,6 +69,11 @@ struct FilmImage {
   std::vector<uint32_t> samples;
   // First-hit feature buffers, averaged over samples (only when requested).
   std::vector<float> albedo, normal, depth;  // 3, 3 and 1 floats per pixel
+  // The mean and count of the even-indexed samples (halfFilms only): with rgb and samples,
+  // the two half films of a dual-buffer denoiser.
+  std::vector<float> evenRgb;
+  std::vector<uint32_t> evenSamples;
+  std::vector<float> denoised;  // 3 floats per pixel, when denoised (src/denoise/)
 };
 
 // The film's raw per-pixel state over the crop window, enough to continue it exactly: the
@@ -81,6 +87,8 @@ struct FilmState {
   std::vector<uint32_t> count;
   std::vector<vec3> albedoSum, normalSum;
   std::vector<float> depthSum;
+  std::vector<vec3> evenSum;          // the even-indexed samples (empty unless halfFilms)
+  std::vector<uint32_t> evenCount;
 
   size_t PixelCount() const { return size_t(width) * height; }
 };

@@ -66,11 +66,16 @@ uint64_t Rays(const RenderStats& s) { return s.cameraRays + s.extensionRays + s.
 
 uint64_t LiveRender::EditOptions(const Json& fields) {
   if (!fields.is_object()) throw EditError(400, "the options must be a JSON object");
-  return Queue([&](Pending& p) {
+  std::optional<bool> denoise;
+  uint64_t generation = Queue([&](Pending& p) {
     RenderOptions o = requestedOptions_;
     std::optional<int64_t> maxDepth, spp;
     for (const auto& [key, value] : fields.items()) {
-      if (key == "compact") {
+      if (key == "denoise") {
+        if (!value.is_boolean()) throw EditError(400, "denoise must be true or false");
+        if (!denoiser_) throw EditError(422, "this preview has no denoiser");
+        denoise = value.get<bool>();
+      } else if (key == "compact") {
         o.compact = Choice<Toggle>(value, "compact",
                                    {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
       } else if (key == "sort") {
@@ -91,7 +96,7 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else {
         throw EditError(400, "unknown option \"" + key +
                                  "\" (expected compact, sort, integrator, specialize, "
-                                 "max_depth or spp)");
+                                 "max_depth, spp or denoise)");
       }
     }
     // The loader's limits, checked before anything changes.
@@ -99,12 +104,18 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
     if (spp) document_.SetRenderSetting("spp", *spp);
     if (spp) p.spp = uint32_t(*spp);
     if (maxDepth) p.maxDepth = int(*maxDepth);
-    if (fields.size() > (spp ? 1u : 0u)) {  // anything but the target spp restarts the film
+    // Anything but the target spp and denoising (display only) restarts the film.
+    if (fields.size() > (spp ? 1u : 0u) + (denoise ? 1u : 0u)) {
       requestedOptions_ = o;
       p.options = o;
       p.restart = true;
     }
   });
+  if (denoise) {
+    denoise_ = *denoise;
+    EncodeAgain();
+  }
+  return generation;
 }
 
 std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const {
@@ -144,7 +155,9 @@ std::string LiveRender::DescribeJson() const {
   j["options"] = Json{{"compact", ToggleName(requestedOptions_.compact)},
                       {"sort", SortName(requestedOptions_.sort)},
                       {"integrator", IntegratorName(requestedOptions_.integrator)},
-                      {"specialize", requestedOptions_.specialize}};
+                      {"specialize", requestedOptions_.specialize},
+                      {"denoise", denoise_.load()},
+                      {"denoise_available", denoiser_ != nullptr}};
   Json objects = Json::array();
   for (size_t i = 0; i < document_.ObjectCount(); ++i) {
     const Json& o = document_.ObjectJson(i);
