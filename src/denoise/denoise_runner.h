@@ -42,9 +42,13 @@ class DenoiseRunner {
     Fill(settings);
     for (uint32_t r0 = 0; r0 < planes_.height; r0 += Band()) {
       uint32_t r1 = std::min(planes_.height, r0 + Band());
-      for (int dy = -settings.radius; dy <= settings.radius; ++dy)
-        for (int dx = -settings.radius; dx <= settings.radius; ++dx)
-          Offset(r0, r1, ptrdiff_t(dy) * ptrdiff_t(planes_.stride) + dx, settings);
+      for (int dy = -settings.radius; dy <= settings.radius; ++dy) {
+        for (int dx = -settings.radius; dx <= settings.radius; dx += kDenoiseGroup) {
+          DenoiseOffsets group{ptrdiff_t(dy) * ptrdiff_t(planes_.stride), dx,
+                               std::min(kDenoiseGroup, settings.radius - dx + 1)};
+          Offsets(r0, r1, group, settings);
+        }
+      }
     }
     Finish(image, settings);
     passesMs_ = backend_.Times().accumulate - before;
@@ -67,8 +71,8 @@ class DenoiseRunner {
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
     size_t plane = size_t(d.stride) * d.rows;
-    constexpr size_t kPlanes =
-        2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + 2 + kDenoiseCandidates * (2 * 4 + 1);
+    constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + 2 * kDenoiseGroup +
+                               kDenoiseCandidates * (2 * 4 + 1);
     if (store_.Size() != plane * kPlanes) {
       store_.Resize(plane * kPlanes);
       store_.Zero();  // padding the passes read but never write stays finite
@@ -82,7 +86,7 @@ class DenoiseRunner {
     for (int h = 0; h < kDenoiseHalves; ++h) {
       for (int c = 0; c < 3; ++c) d.half[h][c] = take();
       for (int c = 0; c < 3; ++c) d.halfVar[h][c] = take();
-      d.dist[h] = take();
+      for (int g = 0; g < kDenoiseGroup; ++g) d.dist[g][h] = take();
     }
     for (int k = 0; k < kDenoiseCandidates; ++k) {
       for (int h = 0; h < kDenoiseHalves; ++h)
@@ -124,9 +128,10 @@ class DenoiseRunner {
     }
   }
 
-  // One offset over the image rows [r0, r1): distances over the rows the patches reach, then
-  // the weights and sums.
-  void Offset(uint32_t r0, uint32_t r1, ptrdiff_t offset, const DenoiseSettings& s) {
+  // A group of offsets over the image rows [r0, r1): distances over the rows the patches
+  // reach, then the weights and sums.
+  void Offsets(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset,
+               const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
     uint32_t f = uint32_t(s.patchRadius);
     size_t first = size_t(r0 + d.padY - f) * d.stride;
@@ -150,7 +155,7 @@ class DenoiseRunner {
   }
 
   template <int kPatch, int kCount>
-  void Accumulate(uint32_t r0, uint32_t r1, ptrdiff_t offset) {
+  void Accumulate(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset) {
     DenoisePlanes d = planes_;
     DenoiseBandwidths k = bandwidths_;
     size_t first = size_t(r0 + d.padY) * d.stride;

@@ -29,6 +29,9 @@ namespace pt {
 // Half-buffer index: 0 holds the even-indexed samples (A), 1 the odd ones (B).
 constexpr int kDenoiseHalves = 2;
 constexpr int kDenoiseCandidates = 3;  // candidate filters (denoise_settings.h)
+// Offsets of one row of the window handled per pass: the sums stay in registers across them
+// (a GPU reads and writes them from memory once per group instead of once per offset).
+constexpr int kDenoiseGroup = 8;
 
 struct DenoisePlanes {
   uint32_t width = 0, height = 0;    // the image
@@ -41,7 +44,8 @@ struct DenoisePlanes {
   float* depth;
   // Per pixel, 1 / max(tau, |grad f|^2) for albedo, normal and depth (depth relative).
   float* featureScale[3];
-  float* dist[kDenoiseHalves];       // one offset's pixel-wise NL-means distance, per guide
+  // One group of offsets' pixel-wise NL-means distances, per offset and guide.
+  float* dist[kDenoiseGroup][kDenoiseHalves];
   // Per candidate and filtered half: weighted colour differences (RGB) and the weight sum.
   float* sum[kDenoiseCandidates][kDenoiseHalves][4];
   float* error[kDenoiseCandidates];  // per candidate, its SURE error estimate
@@ -189,10 +193,21 @@ PT_HDI float PixelDistance(float* const* mean, float* const* var, size_t p, size
   return DenoiseMax(sum * (1.0f / 3.0f), 0.0f);
 }
 
-PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, ptrdiff_t offset, size_t p) {
-  size_t q = size_t(ptrdiff_t(p) + offset);
-  d.dist[0][p] = PixelDistance(d.half[0], d.halfVar[0], p, q);
-  d.dist[1][p] = PixelDistance(d.half[1], d.halfVar[1], p, q);
+// A group of offsets: row offset `row` (dy * stride) and columns first .. first + count - 1
+// (count <= kDenoiseGroup; the rest repeat the first, and the accumulate pass ignores them).
+struct DenoiseOffsets {
+  ptrdiff_t row;
+  int first, count;
+  PT_HDI ptrdiff_t Of(int g) const { return row + first + (g < count ? g : 0); }
+};
+
+PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, const DenoiseOffsets& o, size_t p) {
+  PT_DENOISE_UNROLL
+  for (int g = 0; g < kDenoiseGroup; ++g) {
+    size_t q = size_t(ptrdiff_t(p) + o.Of(g));
+    d.dist[g][0][p] = PixelDistance(d.half[0], d.halfVar[0], p, q);
+    d.dist[g][1][p] = PixelDistance(d.half[1], d.halfVar[1], p, q);
+  }
 }
 
 // The mean of a guide's pixel distances over the patch around p.
@@ -221,10 +236,10 @@ PT_HDI float FeatureDistance(const DenoisePlanes& d, size_t p, size_t q) {
 // The sums hold weighted differences from the pixel's own value: a neighbour equal to it adds
 // exactly nothing (a constant image stays exactly constant), and the sum of 225 terms keeps
 // the precision of the differences rather than of the values.
-PT_HDI void AddNeighbour(float* const* sum, float* const* mean, size_t p, size_t q, float w) {
+PT_HDI void AddNeighbour(float* sum, float* const* mean, const float* own, size_t q, float w) {
   PT_DENOISE_UNROLL
-  for (int c = 0; c < 3; ++c) sum[c][p] += w * (mean[c][q] - mean[c][p]);
-  sum[3][p] += w;
+  for (int c = 0; c < 3; ++c) sum[c] += w * (mean[c][q] - own[c]);
+  sum[3] += w;
 }
 
 // The candidates' bandwidths as the passes use them: 1 / k^2 (colour, features).
@@ -233,22 +248,48 @@ struct DenoiseBandwidths {
   float feature[kDenoiseCandidates];
 };
 
-// Pass 4, per offset, over the padded pixels of a band of rows: for each candidate, each
-// half's sums take the neighbour with weight exp(-max(patch distance of the OTHER half,
-// feature distance)), both in that candidate's bandwidths.
+// Pass 4, per group of offsets, over the padded pixels of a band of rows: for each offset
+// in turn and each candidate, each half's sums take the neighbour with weight
+// exp(-max(patch distance of the OTHER half, feature distance)), both in that candidate's
+// bandwidths. The same additions in the same order as one offset at a time.
 template <int kPatch, int kCount>
 PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidths& k,
-                                   ptrdiff_t offset, size_t p) {
-  size_t q = size_t(ptrdiff_t(p) + offset);
+                                   const DenoiseOffsets& o, size_t p) {
   ptrdiff_t stride = ptrdiff_t(d.stride);
-  float feature = FeatureDistance(d, p, q);
-  float patch0 = PatchDistance<kPatch>(d.dist[0], p, stride);
-  float patch1 = PatchDistance<kPatch>(d.dist[1], p, stride);
+  float sum[kCount][kDenoiseHalves][4], own[kDenoiseHalves][3];
   PT_DENOISE_UNROLL
-  for (int c = 0; c < kCount; ++c) {
-    float f = feature * k.feature[c];
-    AddNeighbour(d.sum[c][0], d.half[0], p, q, DenoiseExp(-DenoiseMax(patch1 * k.color[c], f)));
-    AddNeighbour(d.sum[c][1], d.half[1], p, q, DenoiseExp(-DenoiseMax(patch0 * k.color[c], f)));
+  for (int h = 0; h < kDenoiseHalves; ++h) {
+    PT_DENOISE_UNROLL
+    for (int c = 0; c < 3; ++c) own[h][c] = d.half[h][c][p];
+    PT_DENOISE_UNROLL
+    for (int j = 0; j < kCount; ++j) {
+      PT_DENOISE_UNROLL
+      for (int c = 0; c < 4; ++c) sum[j][h][c] = d.sum[j][h][c][p];
+    }
+  }
+  PT_DENOISE_UNROLL
+  for (int g = 0; g < kDenoiseGroup; ++g) {
+    size_t q = size_t(ptrdiff_t(p) + o.Of(g));
+    float valid = g < o.count ? 1.0f : 0.0f;
+    float feature = FeatureDistance(d, p, q);
+    float patch0 = PatchDistance<kPatch>(d.dist[g][0], p, stride);
+    float patch1 = PatchDistance<kPatch>(d.dist[g][1], p, stride);
+    PT_DENOISE_UNROLL
+    for (int j = 0; j < kCount; ++j) {
+      float f = feature * k.feature[j];
+      float w0 = valid * DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
+      float w1 = valid * DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
+      AddNeighbour(sum[j][0], d.half[0], own[0], q, w0);
+      AddNeighbour(sum[j][1], d.half[1], own[1], q, w1);
+    }
+  }
+  PT_DENOISE_UNROLL
+  for (int h = 0; h < kDenoiseHalves; ++h) {
+    PT_DENOISE_UNROLL
+    for (int j = 0; j < kCount; ++j) {
+      PT_DENOISE_UNROLL
+      for (int c = 0; c < 4; ++c) d.sum[j][h][c][p] = sum[j][h][c];
+    }
   }
 }
 
