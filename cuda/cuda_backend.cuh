@@ -2,7 +2,7 @@
 // body as the CPU, Thrust for compaction, CUB and two kernels of ours for the ordering by
 // material (render_cuda.cu).
 // Included by render_cuda.cu, which instantiates every Thrust call (Thrust compiles slowly),
-// and by denoise_cuda.cu, which makes none.
+// and by media_cuda.cu and denoise_cuda.cu, which make none.
 #pragma once
 
 #include <thrust/count.h>

@@ -108,6 +108,11 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   job.denoiser = denoiser.get();
   InstallStopSignals();
   JobOutcome outcome = RunRenderJob(job);
+  if (outcome.result.stats.samples > 0) {
+    std::string black = BlackImageWarning(scene, outcome.result.image.rgb,
+                                          cli.envPath == kEnvNone ? "--env none" : "");
+    if (!black.empty()) Warn(black);
+  }
   DenoiseImage(denoiser.get(), outcome.result.image, &times);
   std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
   PrintSummary(outcome);

@@ -92,6 +92,26 @@ PT_HDI_HOT WideRay MakeWideRay(const Ray& ray) {
   r.neg[1] = r.invDir.y < 0.0f;
   r.neg[2] = r.invDir.z < 0.0f;
   r.octInv = 7u - (uint32_t(r.neg[0]) | uint32_t(r.neg[1]) << 1 | uint32_t(r.neg[2]) << 2);
+  // Parallel axes (wide_node_test.h): |d_a| at most 2^-64 of the largest component, or 1 / d_a
+  // infinite.
+#ifdef PT_WIDE_AVX2
+  r.oV = _mm_setr_ps(r.o.x, r.o.y, r.o.z, 0.0f);
+  r.invDirV = _mm_setr_ps(r.invDir.x, r.invDir.y, r.invDir.z, 0.0f);
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  const __m128 absD = _mm_andnot_ps(sign, _mm_setr_ps(ray.d.x, ray.d.y, ray.d.z, 0.0f));
+  const __m128 largest = _mm_max_ps(_mm_max_ps(absD, _mm_shuffle_ps(absD, absD, 0xc9)),
+                                    _mm_shuffle_ps(absD, absD, 0xd2));  // in lanes 0-2
+  const __m128 parallel = _mm_or_ps(
+      _mm_cmpngt_ps(absD, _mm_mul_ps(largest, _mm_set1_ps(0x1p-64f))),
+      _mm_cmpeq_ps(_mm_andnot_ps(sign, r.invDirV), _mm_set1_ps(kInfinity)));
+  r.parallel = uint32_t(_mm_movemask_ps(parallel)) & 7u;
+#else
+  const float ax = fabsf(ray.d.x), ay = fabsf(ray.d.y), az = fabsf(ray.d.z);
+  const float small = 0x1p-64f * fmaxf(ax, fmaxf(ay, az));
+  r.parallel = (uint32_t(!(ax > small)) | uint32_t(fabsf(r.invDir.x) == kInfinity)) |
+               (uint32_t(!(ay > small)) | uint32_t(fabsf(r.invDir.y) == kInfinity)) << 1 |
+               (uint32_t(!(az > small)) | uint32_t(fabsf(r.invDir.z) == kInfinity)) << 2;
+#endif
   for (int a = 0; a < 3; ++a) {
     r.nearWord[a] = (r.neg[a] ? 14u : 8u) + 2u * uint32_t(a);
     r.farWord[a] = (r.neg[a] ? 8u : 14u) + 2u * uint32_t(a);

@@ -2,6 +2,7 @@
 // the page builds its controls from.
 #include <cmath>
 
+#include "src/lights/light_bvh_build.h"
 #include "src/server/live_render.h"
 
 namespace pt {
@@ -89,6 +90,12 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else if (key == "specialize") {
         if (!value.is_boolean()) throw EditError(400, "specialize must be true or false");
         o.specialize = value.get<bool>();
+      } else if (key == "light_sampler") {
+        o.lightSampler = Choice<LightSampler>(value, "light_sampler",
+                                              {{"auto", LightSampler::kAuto},
+                                               {"bvh", LightSampler::kBvh},
+                                               {"power", LightSampler::kPower},
+                                               {"uniform", LightSampler::kUniform}});
       } else if (key == "max_depth") {
         maxDepth = Integer(value, "max_depth");
       } else if (key == "spp") {
@@ -96,7 +103,7 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else {
         throw EditError(400, "unknown option \"" + key +
                                  "\" (expected compact, sort, integrator, specialize, "
-                                 "max_depth, spp or denoise)");
+                                 "light_sampler, max_depth, spp or denoise)");
       }
     }
     // The loader's limits, checked before anything changes.
@@ -138,6 +145,7 @@ std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_
   j["compact_used"] = now.compactUsed;
   j["sort_used"] = now.sortUsed;
   j["specialization"] = now.specialization;
+  j["light_sampler"] = now.lightSampler;
   j["rebuilds"] = Json{{"scene", sceneRebuilds_},
                        {"top_level", topLevelRebuilds_},
                        {"last_ms", lastRebuildMs_}};
@@ -156,6 +164,7 @@ std::string LiveRender::DescribeJson() const {
                       {"sort", SortName(requestedOptions_.sort)},
                       {"integrator", IntegratorName(requestedOptions_.integrator)},
                       {"specialize", requestedOptions_.specialize},
+                      {"light_sampler", LightSamplerName(requestedOptions_.lightSampler)},
                       {"denoise", denoise_.load()},
                       {"denoise_available", denoiser_ != nullptr}};
   Json objects = Json::array();
