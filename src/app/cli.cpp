@@ -342,6 +342,7 @@ const Handler* FindHandler(const std::string& name) {
 // Flags that take no value; false when name is not one.
 bool ApplyFlag(const std::string& name, CliOptions* options) {
   if (name == "--quiet") options->quiet = true;
+  else if (name == "--denoise") options->denoise = true;
   else if (name == "--help" || name == "-h") options->help = true;
   else if (name == "--version") options->version = true;
   else return false;

@@ -82,6 +82,8 @@ struct CliOptions {
   std::optional<int> servePort;
   std::string bindAddress;  // --bind, empty = 127.0.0.1
 
+  bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
+
   bool quiet = false;
   bool help = false;
   bool version = false;

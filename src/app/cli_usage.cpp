@@ -18,6 +18,9 @@ Outputs
   --spp-map FILE           samples per pixel: a heat map (.png) or raw counts (.exr/.pfm)
   --stats-json FILE        write render statistics as JSON
   --reference FILE         log relMSE against this .exr/.pfm image into the stats
+  --denoise                denoise -o (NL-means on the two half films, guided by albedo,
+                           normal and depth; docs/denoise.md); an --hdr EXR keeps the raw
+                           image and gains denoised.R/G/B
 
 Image and sampling
   --spp N                  samples per pixel

@@ -8,8 +8,10 @@
 int main(int argc, char** argv) {
   pt::AppBackends backends;
   backends.cpuSession = &pt::MakeCpuSession;
+  backends.cpuDenoiser = &pt::MakeCpuDenoiser;
 #if defined(PT_HAVE_CUDA)
   backends.cudaSession = &pt::MakeCudaSession;
+  backends.cudaDenoiser = &pt::MakeCudaDenoiser;
 #endif
   backends.cudaDeviceCount = &pt::CudaDeviceCount;
 #if defined(PT_HAVE_SERVER)

@@ -24,7 +24,15 @@ void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const Resuma
 std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& image,
                                      const ResumableState* state) {
   std::vector<std::string> written;
-  WriteImage(cli.outputPath, image, false);
+  if (!image.denoised.empty()) {  // --denoise: -o shows the denoised image
+    FilmImage shown;
+    shown.width = image.width;
+    shown.height = image.height;
+    shown.rgb = image.denoised;
+    WriteImage(cli.outputPath, shown, false);
+  } else {
+    WriteImage(cli.outputPath, image, false);
+  }
   written.push_back(cli.outputPath);
   if (!cli.hdrPath.empty()) {
     if (state && IsExrPath(cli.hdrPath)) WriteCheckpoint(cli, image, *state);

@@ -41,12 +41,15 @@ class PeriodicWriter {
     if (!preview && !checkpoint) return;
     try {
       if (cli_.checkpointEverySeconds <= 0.0) {
-        WriteImages(cli_, session.Image(), nullptr);
+        FilmImage image = session.Image();
+        if (job_.denoiser) job_.denoiser->Denoise(image);
+        WriteImages(cli_, image, nullptr);
         return;
       }
       // With checkpoints on, every --hdr written is resumable (a preview included).
       FilmState film = session.SaveFilm();
       FilmImage image = ResolveFilmImage(film);
+      if (preview && job_.denoiser) job_.denoiser->Denoise(image);
       ResumableState state{&film, job_.options.filmDouble, job_.description};
       if (preview) WriteImages(cli_, image, &state);
       else WriteCheckpoint(cli_, image, state);

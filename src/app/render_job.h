@@ -25,6 +25,7 @@ struct RenderJob {
   // > 1: the samples cut into this many chunks merged along a fixed tree (--chunks: the image
   // of an MPI job with the same chunks); no resumable state then.
   uint32_t chunks = 1;
+  Denoiser* denoiser = nullptr;  // --denoise: previews are denoised too (the result by the app)
 };
 
 struct JobOutcome {

@@ -8,6 +8,7 @@
 
 #include "src/app/app_failure.h"
 #include "src/app/cli.h"
+#include "src/app/denoise_step.h"
 #include "src/app/outputs.h"
 #include "src/app/render_job.h"
 #include "src/app/resume.h"
@@ -103,6 +104,8 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   std::optional<FilmState> resumed;
   if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
   job.resumeFrom = resumed ? &*resumed : nullptr;
+  std::unique_ptr<Denoiser> denoiser = MakeAppDenoiser(cli, backend, backends, 0);
+  job.denoiser = denoiser.get();
   InstallStopSignals();
   JobOutcome outcome = RunRenderJob(job);
   if (outcome.result.stats.samples > 0) {
@@ -110,6 +113,7 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
                                           cli.envPath == kEnvNone ? "--env none" : "");
     if (!black.empty()) Warn(black);
   }
+  DenoiseImage(denoiser.get(), outcome.result.image, &times);
   std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
   PrintSummary(outcome);
   PrintWritten(written, cli, outcome.keepState);

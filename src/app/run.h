@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "src/denoise/denoiser.h"
 #include "src/integrator/render_session.h"
 
 namespace pt {
@@ -28,6 +29,9 @@ struct AppBackends {
   SessionFactory cpuSession = nullptr;
   SessionFactory cudaSession = nullptr;
   int (*cudaDeviceCount)() = nullptr;
+  // --denoise on each backend (src/denoise/); cudaDenoiser is null without the CUDA backend.
+  DenoiserFactory cpuDenoiser = nullptr;
+  DenoiserFactory cudaDenoiser = nullptr;
   // The preview server (src/server/http_server.h); null when cpp-httplib was not found.
   std::unique_ptr<HttpServer> (*startServer)(LiveRender&, const HttpServerConfig&) = nullptr;
 };

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "src/app/app_failure.h"
+#include "src/app/denoise_step.h"
 #include "src/app/outputs.h"
 #include "src/app/progress.h"
 #include "src/app/render_job.h"
@@ -56,6 +57,7 @@ struct RankSetup {
   DistributedOptions distributed;
   AppTimes times;
   double mpiInitMs = 0.0;
+  std::unique_ptr<Denoiser> denoiser;  // rank 0 with --denoise: once, on the merged film
 };
 
 RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& backends) {
@@ -84,6 +86,7 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
     d.lanes = cli.lanes.value_or(1);
     d.mergeThreads = 1;
   }
+  if (job.Rank() == 0) s.denoiser = MakeAppDenoiser(cli, backend, backends, s.options.device);
   return s;
 }
 
@@ -114,7 +117,7 @@ uint64_t Fingerprint(const Scene& scene, const RenderOptions& o, uint32_t chunks
 // The statistics of a distributed render: the one-process schema, with counters summed over
 // ranks and the render time the job's, plus an "mpi" section per rank.
 nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t chunks,
-                               double mpiInitMs, bool features) {
+                               double mpiInitMs, bool features, bool halves) {
   nlohmann::ordered_json perRank = nlohmann::ordered_json::array();
   double lanesStartup = 0.0;
   for (const RankReport& rank : r.ranks) {
@@ -128,7 +131,7 @@ nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t c
           {"reduction_ms", r.reductionMs},
           {"startup_ms", {{"mpi_init", mpiInitMs}, {"lanes", lanesStartup}}},
           {"load_balance", LoadBalance(r.ranks)},
-          {"film_bytes_per_pixel", 60 + (features ? 28 : 0)},
+          {"film_bytes_per_pixel", 60 + (features ? 28 : 0) + (halves ? 16 : 0)},
           {"interrupted", r.interrupted},
           {"time_limited", r.timeLimited},
           {"ended_early", r.why},
@@ -187,16 +190,23 @@ int FinishRoot(const CliOptions& cli, const RankSetup& s, const DistributedResul
   }
   if (r.samples == 0) return r.status != 0 ? r.status : kExitRuntimeFailure;
   JobOutcome outcome = Outcome(r);
+  AppTimes times = s.times;
+  try {
+    DenoiseImage(s.denoiser.get(), outcome.result.image, &times);
+  } catch (const AppFailure& f) {
+    std::fprintf(stderr, "pathtracer: %s\n", f.message.c_str());
+    return f.status;
+  }
   std::vector<std::string> written;
   try {
     // No resumable state: a film of chunks is not a per-pixel prefix of the samples.
     written = WriteImages(cli, outcome.result.image, nullptr);
     if (!cli.statsJsonPath.empty()) {
-      AppTimes times = s.times;
       times.totalMs = MsSince(start);
       RunReport report = MakeReport(cli, *s.scene, outcome, s.options.backend);
       nlohmann::ordered_json doc = StatsToJson(outcome.result.stats, *s.scene, times, report);
-      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, s.mpiInitMs, s.options.featureBuffers);
+      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, s.mpiInitMs,
+                           s.options.featureBuffers, s.options.halfFilms);
       WriteStatsJson(cli.statsJsonPath, doc);
       written.push_back(cli.statsJsonPath);
     }

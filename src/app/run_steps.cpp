@@ -131,8 +131,10 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.lightSampler = cli.lightSampler;
   options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
-  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
-  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
+  // Feature buffers (albedo, normal, depth) go into an --hdr EXR; --denoise reads them and the
+  // two half films.
+  options.featureBuffers = (!cli.hdrPath.empty() && IsExrPath(cli.hdrPath)) || cli.denoise;
+  options.halfFilms = cli.denoise;
   return options;
 }
 

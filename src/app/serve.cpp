@@ -52,6 +52,14 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
   settings.options = MakeRenderOptions(cli, backend, nullptr);
   SessionFactory factory = backend == BackendKind::kCuda ? backends.cudaSession
                                                          : backends.cpuSession;
+  // The page's denoise toggle: the render backend's denoiser, made by the preview.
+  DenoiserFactory makeDenoiser = backend == BackendKind::kCuda ? backends.cudaDenoiser
+                                                               : backends.cpuDenoiser;
+  if (makeDenoiser) {
+    int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
+    settings.makeDenoiser = [makeDenoiser, where] { return makeDenoiser(where, DenoiseSettings{}); };
+    settings.denoise = cli.denoise;
+  }
   LiveRender live(std::move(document), std::move(scene), factory, settings);
 
   HttpServerConfig config;

@@ -51,7 +51,7 @@ Json SortJson(const RenderStats& stats) {
 
 Json TimesJson(const RenderStats& stats, const AppTimes& times) {
   const StageTimes& s = stats.stages;
-  return Json{{"total", times.totalMs},
+  Json json{{"total", times.totalMs},
               {"load", times.loadMs},
               {"bvh_build", times.bvhBuildMs},
               {"upload", stats.uploadMs},
@@ -65,6 +65,8 @@ Json TimesJson(const RenderStats& stats, const AppTimes& times) {
                               {"accumulate", s.accumulate},
                               {"medium", s.medium},
                               {"shade_queues", ShadeQueueTimesJson(s)}}}};
+  if (times.denoiseMs >= 0.0) json["denoise"] = times.denoiseMs;  // --denoise only
+  return json;
 }
 
 // Peaks that mean something on each backend: the renderer's own buffers (device memory on a

@@ -16,6 +16,7 @@ struct AppTimes {
   double loadMs = 0.0;
   double bvhBuildMs = 0.0;
   double totalMs = 0.0;  // the whole run, from the start of the program to the stats
+  double denoiseMs = -1.0;  // --denoise's time (copies to and from a GPU included); < 0: none
 };
 
 // What the app knows of the run beyond the renderer's statistics.

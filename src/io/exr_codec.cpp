@@ -46,6 +46,11 @@ std::vector<ExrChannel> ImageExrChannels(const FilmImage& image, bool withExtras
     }
     channels.push_back(FloatChannel("Z", image.depth, 1, 0));
   }
+  if (image.denoised.size() == pixels * 3) {  // --denoise's image beside the raw one
+    for (int c = 0; c < 3; ++c) {
+      channels.push_back(FloatChannel(std::string("denoised.") + "RGB"[c], image.denoised, 3, c));
+    }
+  }
   return channels;
 }
 

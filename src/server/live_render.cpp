@@ -58,6 +58,11 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
   targetSpp_ = uint32_t(scene_.desc.render.spp);
   options_.crop = CropWindow{};
   options_.adaptive = Toggle::kOff;
+  if (settings_.makeDenoiser) {
+    denoiser_ = settings_.makeDenoiser();
+    options_.featureBuffers = options_.halfFilms = true;
+    denoise_ = settings_.denoise;
+  }
   requestedOptions_ = options_;
   RenderCallbacks callbacks;
   callbacks.shouldStop = [this] { return editsWaiting_.load() || stop_.load(); };
@@ -186,6 +191,10 @@ void LiveRender::SetExposure(float stops) {
     throw EditError(400, "exposure must be a number of stops in [-20, 20]");
   }
   exposure_ = stops;
+  EncodeAgain();
+}
+
+void LiveRender::EncodeAgain() {
   std::lock_guard<std::mutex> lock(frameMutex_);
   if (!frame_ || !image_) return;
   encoding_->image = image_;
@@ -331,16 +340,25 @@ void LiveRender::EncodeLoop() {
     frame->generation = job.generation;
     frame->spp = job.spp;
     frame->statsJson = job.statsJson;
+    double denoiseMs = -1.0;
     try {
-      frame->jpeg = EncodeJpeg(job.image->width, job.image->height,
-                               ToneMap(*job.image, exposure_), settings_.jpegQuality);
+      job.image = Displayed(job.image, &denoiseMs);
+      FilmImage shown;
+      const FilmImage* tone = job.image.get();
+      if (!job.image->denoised.empty() && denoise_) {
+        shown.rgb = job.image->denoised;
+        tone = &shown;
+      }
+      frame->jpeg = EncodeJpeg(job.image->width, job.image->height, ToneMap(*tone, exposure_),
+                               settings_.jpegQuality);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());
     }
-    if (job.editReceived != Clock::time_point()) {
-      double ms = MsBetween(job.editReceived, Clock::now());
+    if (job.editReceived != Clock::time_point() || denoiseMs >= 0.0) {
       Json stats = Json::parse(frame->statsJson);
-      stats["edit_to_frame_ms"] = ms;
+      if (job.editReceived != Clock::time_point())
+        stats["edit_to_frame_ms"] = MsBetween(job.editReceived, Clock::now());
+      if (denoiseMs >= 0.0) stats["denoise_ms"] = denoiseMs;
       frame->statsJson = stats.dump();
     }
     lock.lock();
@@ -348,6 +366,16 @@ void LiveRender::EncodeLoop() {
     image_ = job.image;
     frameReady_.notify_all();
   }
+}
+
+
+std::shared_ptr<const FilmImage> LiveRender::Displayed(std::shared_ptr<const FilmImage> image,
+                                                       double* ms) {
+  if (!denoise_ || !denoiser_ || !image->denoised.empty()) return image;
+  auto denoised = std::make_shared<FilmImage>(*image);
+  denoiser_->Denoise(*denoised);
+  *ms = denoiser_->LastMs();
+  return denoised;
 }
 
 }  // namespace pt

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "src/denoise/denoiser.h"
 #include "src/integrator/render_session.h"
 #include "src/server/scene_document.h"
 #include "src/server/scene_objects.h"
@@ -31,6 +32,10 @@ struct LiveSettings {
   RenderOptions options;       // the flags as the command line set them
   double framesPerSecond = 5;  // updates while converging; an edit's first frame goes at once
   int jpegQuality = 88;
+  // The denoiser frames may be shown through (options "denoise"), or null: with one, the film
+  // keeps the features and half films it reads.
+  std::function<std::unique_ptr<Denoiser>()> makeDenoiser;
+  bool denoise = false;  // frames denoised from the start (--serve --denoise)
 };
 
 // A tone-mapped frame as the page receives it, with the statistics it was made with.
@@ -74,7 +79,9 @@ class LiveRender {
   // Each is checked now (throws EditError) and applied by the render thread before its next
   // wave; returns the generation whose frames show it.
   uint64_t EditCamera(const Json& fields);
-  uint64_t EditOptions(const Json& fields);  // compact, sort, integrator, specialize, max_depth, spp
+  // compact, sort, integrator, specialize, max_depth, spp; denoise (display only: true shows
+  // every frame denoised, when the preview has a denoiser).
+  uint64_t EditOptions(const Json& fields);
   uint64_t EditMaterial(size_t index, const Json& fields);
   // An instance object is re-placed through the top level (RebuildTopLevel, no mesh touched);
   // any other object is loaded again at its new place and the scene rebuilt.
@@ -106,6 +113,9 @@ class LiveRender {
   void RenderPass();
   void Publish(const std::string& statsJson);
   void EncodeLoop();
+  void EncodeAgain();  // the current film as a frame again (a display setting changed)
+  // The frame's image: the film's, or with --denoise's layer added (its time in ms, or -1).
+  std::shared_ptr<const FilmImage> Displayed(std::shared_ptr<const FilmImage> image, double* ms);
   std::string StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const;
 
   // Guarded by docMutex_: the document and the edits not yet applied.
@@ -151,6 +161,8 @@ class LiveRender {
   std::shared_ptr<const PreviewFrame> frame_;
   std::shared_ptr<const FilmImage> image_;
   std::atomic<float> exposure_{0.0f};
+  std::unique_ptr<Denoiser> denoiser_;  // used by the encoder thread only
+  std::atomic<bool> denoise_{false};
 
   std::thread renderThread_, encodeThread_;
 };

@@ -67,11 +67,16 @@ uint64_t Rays(const RenderStats& s) { return s.cameraRays + s.extensionRays + s.
 
 uint64_t LiveRender::EditOptions(const Json& fields) {
   if (!fields.is_object()) throw EditError(400, "the options must be a JSON object");
-  return Queue([&](Pending& p) {
+  std::optional<bool> denoise;
+  uint64_t generation = Queue([&](Pending& p) {
     RenderOptions o = requestedOptions_;
     std::optional<int64_t> maxDepth, spp;
     for (const auto& [key, value] : fields.items()) {
-      if (key == "compact") {
+      if (key == "denoise") {
+        if (!value.is_boolean()) throw EditError(400, "denoise must be true or false");
+        if (!denoiser_) throw EditError(422, "this preview has no denoiser");
+        denoise = value.get<bool>();
+      } else if (key == "compact") {
         o.compact = Choice<Toggle>(value, "compact",
                                    {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
       } else if (key == "sort") {
@@ -98,7 +103,7 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else {
         throw EditError(400, "unknown option \"" + key +
                                  "\" (expected compact, sort, integrator, specialize, "
-                                 "light_sampler, max_depth or spp)");
+                                 "light_sampler, max_depth, spp or denoise)");
       }
     }
     // The loader's limits, checked before anything changes.
@@ -106,12 +111,18 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
     if (spp) document_.SetRenderSetting("spp", *spp);
     if (spp) p.spp = uint32_t(*spp);
     if (maxDepth) p.maxDepth = int(*maxDepth);
-    if (fields.size() > (spp ? 1u : 0u)) {  // anything but the target spp restarts the film
+    // Anything but the target spp and denoising (display only) restarts the film.
+    if (fields.size() > (spp ? 1u : 0u) + (denoise ? 1u : 0u)) {
       requestedOptions_ = o;
       p.options = o;
       p.restart = true;
     }
   });
+  if (denoise) {
+    denoise_ = *denoise;
+    EncodeAgain();
+  }
+  return generation;
 }
 
 std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const {
@@ -153,7 +164,9 @@ std::string LiveRender::DescribeJson() const {
                       {"sort", SortName(requestedOptions_.sort)},
                       {"integrator", IntegratorName(requestedOptions_.integrator)},
                       {"specialize", requestedOptions_.specialize},
-                      {"light_sampler", LightSamplerName(requestedOptions_.lightSampler)}};
+                      {"light_sampler", LightSamplerName(requestedOptions_.lightSampler)},
+                      {"denoise", denoise_.load()},
+                      {"denoise_available", denoiser_ != nullptr}};
   Json objects = Json::array();
   for (size_t i = 0; i < document_.ObjectCount(); ++i) {
     const Json& o = document_.ObjectJson(i);
