@@ -9,5 +9,5 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   build-essential cmake ninja-build pkg-config git python3 python3-matplotlib python3-numpy \
   libglm-dev nlohmann-json3-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
   libtinyexr-dev libgtest-dev clang-14 libclang-rt-14-dev libopenmpi-dev openmpi-bin \
-  libcpp-httplib-dev chromium >/dev/null
+  libcpp-httplib-dev chromium zlib1g-dev >/dev/null
 echo "install_deps: Debian packages installed"

@@ -53,7 +53,7 @@ struct CliOptions {
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
-  BvhBuilder bvhBuilder = BvhBuilder::kSah;
+  BvhBuilder bvhBuilder = BvhBuilder::kAuto;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
 

@@ -63,11 +63,28 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
 
 // --bvh auto: the wide layout, measured the faster on both backends (benchmarks/RESULTS.md:
 // GPU 1.07-1.25x per render; CPU 1.2-1.6x per traced ray).
-BvhBuildOptions ChooseBvh(const CliOptions& cli) {
+BvhBuildOptions ChooseBvh(const CliOptions& cli, const AppBackends& backends,
+                          DeviceStart* device, int localRank) {
   BvhBuildOptions options;
   options.builder = cli.bvhBuilder;
   options.threads = cli.threads;
   options.layout = cli.bvhLayout.value_or(BvhLayout::kWide);
+  if (device && backends.lbvhBuild && cli.backend != BackendKind::kCpu) {
+    auto build = backends.lbvhBuild;
+    options.deviceLbvh = [device, build, localRank](const std::vector<Aabb>& bounds,
+                                                    BvhBuildResult* out) {
+      const int count = device->DeviceCount();  // waits for the device's start
+      return count > 0 && build(bounds, localRank % count, out);
+    };
+  }
+  if (device && backends.wideLbvhBuild && cli.backend != BackendKind::kCpu) {
+    auto build = backends.wideLbvhBuild;
+    options.deviceWideLbvh = [device, build, localRank](const std::vector<Aabb>& bounds,
+                                                        WideBvhResult* out) {
+      const int count = device->DeviceCount();
+      return count > 0 && build(bounds, localRank % count, out);
+    };
+  }
   return options;
 }
 
@@ -85,8 +102,11 @@ Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
   }
 }
 
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
-  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
+BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends,
+                          DeviceStart* started) {
+  int gpus = 0;
+  if (started && started->BackgroundMs() >= 0.0) gpus = started->DeviceCount();
+  else if (backends.cudaDeviceCount) gpus = backends.cudaDeviceCount();
   bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
   if (requested == BackendKind::kCuda && !cudaReady) {
     throw AppFailure{kExitRuntimeFailure,

@@ -16,6 +16,7 @@ RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
 }
 bool CudaBackendBuilt() { return false; }
 int CudaDeviceCount() { return 0; }
+int CudaStartDevice(int) { return 0; }
 std::string CudaDeviceName() { return ""; }
 
 }  // namespace pt

@@ -3,9 +3,15 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <type_traits>
 
@@ -52,16 +58,64 @@ bool IsGlb(const std::string& path) {
   return true;
 }
 
-tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedImages& images) {
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(CaptureImage, &images);
+// A file as tinygltf parsed it: the model, its URI images' encoded bytes, the reader's warning.
+struct ParsedGltf {
   tinygltf::Model model;
+  GltfEncodedImages images;
+  std::string warning;
+};
+
+std::shared_ptr<const ParsedGltf> ParseGltf(const std::string& path) {
+  auto parsed = std::make_shared<ParsedGltf>();
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(CaptureImage, &parsed->images);
   std::string err, warn;
-  bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                              : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&parsed->model, &err, &warn, path)
+                        : loader.LoadASCIIFromFile(&parsed->model, &err, &warn, path);
   if (!ok) Malformed("cannot load glTF: " + (err.empty() ? "unknown error" : OneLine(err)));
-  if (!warn.empty()) sink.Warn("glTF reader: " + OneLine(warn));
-  return model;
+  if (!warn.empty()) parsed->warning = "glTF reader: " + OneLine(warn);
+  return parsed;
+}
+
+// The live GltfParseCache's parses (futures, so a load waits for its prefetch), by path with
+// the file's size and modification time.
+struct ParseCacheState {
+  std::mutex mutex;
+  std::map<std::string, std::shared_future<std::shared_ptr<const ParsedGltf>>> parses;
+};
+ParseCacheState* gParseCache = nullptr;
+
+std::string CacheKey(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  const auto time = std::filesystem::last_write_time(path, ec).time_since_epoch().count();
+  return std::filesystem::absolute(path, ec).string() + "|" + std::to_string(size) + "|" +
+         std::to_string(time);
+}
+
+// The parse of `path`: the cache's (started now, or by Prefetch) while one is alive.
+std::shared_ptr<const ParsedGltf> ParsedModel(const std::string& path, bool async = false) {
+  if (!gParseCache) return ParseGltf(path);
+  std::shared_future<std::shared_ptr<const ParsedGltf>> parse;
+  {
+    std::lock_guard<std::mutex> lock(gParseCache->mutex);
+    auto& slot = gParseCache->parses[CacheKey(path)];
+    if (!slot.valid()) {
+      slot = std::async(async ? std::launch::async : std::launch::deferred,
+                        [path] { return ParseGltf(path); })
+                 .share();
+    }
+    parse = slot;
+  }
+  return async ? nullptr : parse.get();
+}
+
+// The model of `path` (parsed once while a GltfParseCache is alive), its reader's warning
+// given to the sink as each load of it did.
+std::shared_ptr<const ParsedGltf> ReadModel(const std::string& path, MeshSink& sink) {
+  std::shared_ptr<const ParsedGltf> parsed = ParsedModel(path);
+  if (!parsed->warning.empty()) sink.Warn(parsed->warning);
+  return parsed;
 }
 
 // One component of any glTF component type as a double (exact for every integer type).
@@ -385,10 +439,10 @@ class GltfWalker {
 }  // namespace
 
 GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
-  GltfEncodedImages images;
-  tinygltf::Model model = ReadModel(path, sink, images);
+  const std::shared_ptr<const ParsedGltf> parsed = ReadModel(path, sink);
+  const tinygltf::Model& model = parsed->model;
   CheckGltfRequiredExtensions(model);
-  GltfWalker walker(model, images, sink);
+  GltfWalker walker(model, parsed->images, sink);
   int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();
@@ -403,10 +457,34 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
 GltfSceneContents ReadGltfSceneParts(const std::string& path) {
   SceneDesc unused;
   MeshSink sink(unused, glm::dmat4(1.0), -1, path);
-  GltfEncodedImages images;
-  tinygltf::Model model = ReadModel(path, sink, images);
-  CheckGltfRequiredExtensions(model);
-  return ReadGltfSceneContents(model, glm::dmat4(1.0));
+  const std::shared_ptr<const ParsedGltf> parsed = ReadModel(path, sink);
+  CheckGltfRequiredExtensions(parsed->model);
+  return ReadGltfSceneContents(parsed->model, glm::dmat4(1.0));
+}
+
+GltfParseCache::GltfParseCache() {
+  if (gParseCache) return;  // nested (an include's load): the outer one stays in charge
+  gParseCache = new ParseCacheState;
+  owns_ = true;
+}
+
+GltfParseCache::~GltfParseCache() {
+  if (!owns_) return;
+  ParseCacheState* state = gParseCache;
+  gParseCache = nullptr;
+  for (auto& [key, parse] : state->parses) {
+    if (parse.valid()) parse.wait();  // a prefetch still parsing: its thread ends first
+  }
+  delete state;
+}
+
+void GltfParseCache::Prefetch(const std::vector<std::string>& paths) {
+  if (!owns_) return;
+  for (const std::string& path : paths) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".glb" || ext == ".gltf") ParsedModel(path, /*async=*/true);
+  }
 }
 
 }  // namespace pt

@@ -12,8 +12,10 @@
 
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
+#include "src/io/gltf_loader.h"
 #include "src/io/image_io.h"
 #include "src/io/model_scene.h"
+#include "src/io/scene_files.h"
 #include "src/io/scene_json.h"
 #include "src/scene/instances.h"
 #include "src/scene/transform.h"
@@ -466,6 +468,14 @@ SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
   std::string baseDir = fs::path(path).parent_path().string();
+  // The scene's glTF files parse on threads of their own while the loader reads the scene;
+  // each file once, however often it is placed.
+  GltfParseCache parses;
+  try {
+    parses.Prefetch(SceneInputFiles(path));
+  } catch (const std::exception&) {
+    // A file that cannot be read is the loader's to report, naming the field.
+  }
   return LoadSceneFromString(text.str(), path, baseDir, options);
 }
 
