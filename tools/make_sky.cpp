@@ -25,11 +25,23 @@ struct Options {
   bool sun = true;
 };
 
+constexpr const char* kUsage =
+    "usage: make_sky -o OUT.exr|OUT.pfm [--elevation DEG] [--azimuth DEG] [--turbidity T]\n"
+    "                [--width W] [--ground-albedo A] [--strength S] [--sun on|off]\n"
+    "Writes the analytic sky (Preetham et al. 1999) as an equirectangular map (W x W/2,\n"
+    "centre column towards -Z, top row +Y) for --env or an environment's \"file\".\n"
+    "  --elevation DEG      sun elevation above the horizon, 0..90 (default 30)\n"
+    "  --azimuth DEG        sun azimuth from -Z towards +X (default 0)\n"
+    "  --turbidity T        haze, 1.7..10 (default 3)\n"
+    "  --width W            map width in texels, 8..16384 (default 1024)\n"
+    "  --ground-albedo A    albedo of the ground below the horizon, 0..1 (default 0.3)\n"
+    "  --strength S         radiance scale (default 1)\n"
+    "  --sun on|off         paint the sun's disk into the map (default on)\n"
+    "  -h, --help           this text\n"
+    "Exit status: 0 written, 1 bad command line, 3 the file cannot be written.\n";
+
 [[noreturn]] void Usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "make_sky: %s\nusage: make_sky -o OUT.exr|OUT.pfm [--elevation DEG] [--azimuth DEG] "
-               "[--turbidity T] [--width W] [--ground-albedo A] [--strength S] [--sun on|off]\n",
-               problem.c_str());
+  std::fprintf(stderr, "make_sky: %s\n%s", problem.c_str(), kUsage);
   std::exit(1);
 }
 
@@ -45,6 +57,10 @@ Options Parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
     if (i + 1 >= argc) Usage("missing value for " + a);
     const char* v = argv[++i];
     if (a == "-o") o.output = v;

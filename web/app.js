@@ -189,6 +189,7 @@ async function loadScene() {
   $('f-sort').value = scene.options.sort;
   $('f-integrator').value = scene.options.integrator;
   $('f-specialize').checked = scene.options.specialize;
+  $('f-light-sampler').value = scene.options.light_sampler;
   $('f-max-depth').value = scene.render.max_depth;
   $('f-spp').value = scene.render.spp;
   showFov();
@@ -221,6 +222,7 @@ function bindFlags() {
   flag('f-sort', 'sort', text);
   flag('f-integrator', 'integrator', text);
   flag('f-specialize', 'specialize', (el) => el.checked);
+  flag('f-light-sampler', 'light_sampler', text);
   flag('f-max-depth', 'max_depth', integer);
   flag('f-spp', 'spp', integer);
   $('c-fov').addEventListener('input', () => {

@@ -147,6 +147,26 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
          o.camera = s.Take();
          if (o.camera.empty()) throw CliError("empty camera for --camera (an index or a name)");
        }},
+      {"--animation",
+       [](CliOptions& o, ValueSource& s) {
+         o.animation = s.Take();
+         if (o.animation.empty()) throw CliError("empty animation for --animation (an index or a name)");
+       }},
+      {"--time",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         char* end = nullptr;
+         double t = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !std::isfinite(t) || std::fabs(t) > 1e30) {
+           throw CliError("bad number for --time: '" + text + "' (expected seconds)");
+         }
+         o.time = t;
+       }},
+      {"--variant",
+       [](CliOptions& o, ValueSource& s) {
+         o.variant = s.Take();
+         if (o.variant.empty()) throw CliError("empty name for --variant (a material variant)");
+       }},
       {"--env", [](CliOptions& o, ValueSource& s) { o.envPath = TakePath(s); }},
       {"--env-strength",
        [](CliOptions& o, ValueSource& s) {
@@ -157,6 +177,10 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
            throw CliError("bad value for --env-strength: '" + text + "' (a number >= 0)");
          }
          o.envStrength = float(v);
+       }},
+      {"--fog",
+       [](CliOptions& o, ValueSource& s) {
+         o.fogSigmaS = float(ParsePositiveNumber(s, "a scattering coefficient per unit length"));
        }},
       {"--max-paths",
        [](CliOptions& o, ValueSource& s) { o.maxPaths = size_t(ParseInt(s, 1, kIntMax)); }},
@@ -230,6 +254,17 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.envSampling = ParseChoice<EnvSampling>(
              s, {{"importance", EnvSampling::kImportance}, {"uniform", EnvSampling::kUniform}});
         }},
+      {"--light-sampler",
+       [](CliOptions& o, ValueSource& s) {
+         o.lightSampler = ParseChoice<LightSampler>(
+             s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
+                 {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
+       }},
+      {"--transmittance",
+       [](CliOptions& o, ValueSource& s) {
+         o.transmittance = ParseChoice<TransmittanceMode>(
+             s, {{"ratio", TransmittanceMode::kRatio}, {"delta", TransmittanceMode::kDelta}});
+       }},
       {"--bvh",
        [](CliOptions& o, ValueSource& s) {
          o.bvhLayout = ParseChoice<std::optional<BvhLayout>>(
@@ -269,6 +304,10 @@ const std::vector<std::pair<std::string, Handler>>& LaterOptions() {
       {"--film",
        [](CliOptions& o, ValueSource& s) {
          o.filmDouble = ParseChoice<bool>(s, {{"float", false}, {"double", true}});
+       }},
+      {"--energy-compensation",
+       [](CliOptions& o, ValueSource& s) {
+         o.energyCompensation = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
        }},
       {"--specialize",
        [](CliOptions& o, ValueSource& s) {
@@ -401,6 +440,15 @@ CliOptions ParseCli(int argc, const char* const* argv) {
   }
   if (!options.help && !options.version) CheckRequired(options);
   return options;
+}
+
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options) {
+  const Handler* handler = FindHandler(name);
+  if (!handler) throw CliError("unknown option " + name);
+  const std::vector<std::string> noArguments;
+  size_t next = 0;
+  ValueSource source(name, value, noArguments, &next);
+  (*handler)(*options, source);
 }
 
 void ApplyCliOverrides(const CliOptions& cli, RenderSettings* settings) {

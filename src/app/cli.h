@@ -18,6 +18,9 @@ struct CliError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// `--env none`: the render has no environment (a file named "none" is given as ./none).
+inline constexpr const char* kEnvNone = "none";
+
 struct CliOptions {
   std::string scenePath;
   std::string outputPath;     // -o
@@ -41,6 +44,10 @@ struct CliOptions {
   std::optional<CropWindow> crop;
   std::string sppMapPath;  // --spp-map, empty = none
   std::string camera;      // --camera, empty = the scene's own
+  std::string animation;        // --animation, empty = the first (with --time)
+  std::optional<double> time;   // --time: seconds into the animation; unset = the static pose
+  std::string variant;     // --variant (KHR_materials_variants), empty = the files' own
+  bool energyCompensation = false;  // --energy-compensation
   Toggle adaptive = Toggle::kAuto;  // kAuto: the scene's setting
   LightPaths lightPaths = LightPaths::kAll;
   float rayOffsetEpsilon = 0.0f;    // 0 = robust
@@ -49,9 +56,12 @@ struct CliOptions {
   TriangleTest triangleTest = TriangleTest::kWatertight;
   Toggle rayOrder = Toggle::kAuto;
   Toggle primPool = Toggle::kAuto;
-  std::string envPath;                // --env: replaces the scene's environment
+  std::string envPath;                // --env: replaces the scene's environment (kEnvNone: removes)
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
+  LightSampler lightSampler = LightSampler::kAuto;  // --light-sampler
+  std::optional<float> fogSigmaS;     // --fog: a homogeneous medium around the camera
+  TransmittanceMode transmittance = TransmittanceMode::kRatio;  // --transmittance
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
   BvhBuilder bvhBuilder = BvhBuilder::kAuto;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
@@ -83,6 +93,12 @@ inline constexpr int kRussianRouletteOff = 1 << 30;
 // Parses argv (argv[0] is the program). Throws CliError. With --help or --version set, the
 // other checks (scene, -o) are skipped.
 CliOptions ParseCli(int argc, const char* const* argv);
+
+// One option as ParseCli applies it, by its command-line name ("--max-depth") and its value
+// text: the same checks and messages. For front ends that take options from elsewhere (the
+// Python module's keywords, src/scripting/). Throws CliError for an unknown option, a flag
+// without a value (--quiet, --help) or a bad value.
+void ApplyCliOption(const std::string& name, const std::string& value, CliOptions* options);
 
 // The text --help prints.
 std::string CliUsage();

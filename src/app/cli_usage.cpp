@@ -31,15 +31,32 @@ Image and sampling
   --light-paths all|direct|indirect  which light paths count (default all)
   --clamp L                firefly clamp: scale each sample down to luminance L at most
                            (off by default; biased, and marked so in the stats)
+  --energy-compensation off|on  rough metals return the energy single-scattering GGX loses
+                           (Kulla-Conty; default off: the glTF specification's and Blender
+                           3.4's single scattering)
 
 Camera and environment
   --camera N|NAME          the glTF camera to render through, by index or name (default: the
                            file's first perspective camera, else an automatic one)
+  --time SECONDS           pose glTF files at this time of an animation: node motion, skins,
+                           morph targets, cameras (default: the file's static pose)
+  --animation N|NAME|all   the glTF animation --time poses, by index or name, or all at once
+                           (default 0; alone: posed at its start)
+  --variant NAME           the glTF file's KHR_materials_variants variant to render (default:
+                           the materials the file assigns)
   --env FILE               environment map (.exr, .hdr, .pfm; 2:1 equirectangular) replacing
                            the scene's environment or background
+  --env none               no environment: only the scene's lights and emitters light it
   --env-strength S         scale of the environment's radiance (default: the scene's, or 1)
   --env-sampling importance|uniform  how next-event estimation samples the map (default
                            importance: by luminance x solid angle)
+  --light-sampler uniform|power|bvh|auto  how next-event estimation chooses a light (default
+                           auto: bvh with 16 or more finite lights, else power)
+  --fog SIGMA_S            fill the space around the camera with a homogeneous, white,
+                           isotropic medium scattering SIGMA_S per unit length (replaces the
+                           scene's "medium"; docs/media.md)
+  --transmittance ratio|delta  how shadow rays estimate transmittance through grid media
+                           (default ratio tracking; delta: the binary estimator, a study)
 
 Backend and performance
   --backend auto|cpu|cuda  auto = CUDA when built and a GPU is present (default auto)

@@ -31,6 +31,8 @@ constexpr std::pair<const char*, const char*> kIdentity[] = {
     {"adaptive", "adaptive sampling"},
     {"environment", "environment (--env, --env-strength)"},
     {"env_sampling", "environment sampling"},
+    {"texture_filter", "texture filter footprint (follows --spp below 64 spp)"},
+    {"media", "media (--fog, --transmittance)"},
 };
 
 const char* IntegratorName(IntegratorMode m) {
@@ -49,8 +51,9 @@ const char* LightPathsName(LightPaths l) {
 // What the command line does to the scene's environment: a --env map (by content) and a
 // --env-strength; the scene's own environment is in scene_hash.
 std::string EnvironmentOverrides(const CliOptions& cli) {
-  std::string text = cli.envPath.empty() ? "the scene's"
-                                         : "--env map " + HashHex(HashFiles({cli.envPath}));
+  std::string text = cli.envPath.empty()      ? "the scene's"
+                     : cli.envPath == kEnvNone ? "none"
+                                               : "--env map " + HashHex(HashFiles({cli.envPath}));
   if (cli.envStrength) text += ", strength " + Json(*cli.envStrength).dump();
   return text;
 }
@@ -106,7 +109,13 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
+      {"media", (cli.fogSigmaS ? "--fog " + Json(*cli.fogSigmaS).dump() : std::string("no --fog")) +
+                    (options.transmittance == TransmittanceMode::kDelta ? ", delta tracking"
+                                                                        : ", ratio tracking")},
       {"film", options.filmDouble ? "double" : "float"},
+      // Only a textured scene's image depends on it (a larger --spp then changes the image).
+      {"texture_filter", scene.desc.textures.empty() ? Json("no textures")
+                                                     : Json(scene.camera.textureFootprint)},
   };
 }
 

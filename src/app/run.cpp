@@ -132,6 +132,11 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   timeline.Mark("setup");
   JobOutcome outcome = RunRenderJob(job);
   timeline.Mark("render_job");
+  if (outcome.result.stats.samples > 0) {
+    std::string black = BlackImageWarning(scene, outcome.result.image.rgb,
+                                          cli.envPath == kEnvNone ? "--env none" : "");
+    if (!black.empty()) Warn(black);
+  }
   SplitJobTime(outcome, timeline);
   std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, timeline);
   PrintSummary(outcome);

@@ -10,7 +10,9 @@
 #include "src/io/environment_loader.h"
 #include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
+#include "src/media/media_tables.h"
 #include "src/scene/effects.h"
+#include "src/scene/energy_compensation.h"
 
 namespace pt {
 namespace {
@@ -40,10 +42,16 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   try {
     LoadOptions load;
     load.camera = cli.camera;
+    load.animation = cli.animation;
+    load.time = cli.time;
+    load.variant = cli.variant;
     load.environmentGiven = !cli.envPath.empty();
     desc = LoadScene(cli.scenePath, load);
-    if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
+    if (cli.envPath == kEnvNone) RemoveEnvironment(&desc);
+    else if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;
+    if (cli.energyCompensation) EnableEnergyCompensation(&desc);
+    if (cli.fogSigmaS) ApplyFog(*cli.fogSigmaS, &desc);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -140,6 +148,8 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.rayOrder = cli.rayOrder;
   options.primPool = cli.primPool;
   options.envSampling = cli.envSampling;
+  options.lightSampler = cli.lightSampler;
+  options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
   options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
@@ -177,7 +187,8 @@ void PrintEffects(const Scene& scene, bool specialize) {
   uint32_t effects = AnalyzeEffects(scene);
   std::string names;
   for (const std::string& n : EffectNames(effects)) names += (names.empty() ? "" : ", ") + n;
-  FeatureClass variant = specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  FeatureClass variant =
+      specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   std::fprintf(stderr, "pathtracer: effects: %s; stage variant: %s%s\n",
                names.empty() ? "none" : names.c_str(), FeatureClassName(variant),
                specialize ? "" : " (--specialize off)");

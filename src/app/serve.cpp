@@ -8,6 +8,7 @@
 #include "src/app/app_failure.h"
 #include "src/app/run_steps.h"
 #include "src/app/stop_signals.h"
+#include "src/io/model_scene.h"
 #include "src/io/scene_loader.h"
 #include "src/server/http_server.h"
 #include "src/server/live_render.h"
@@ -30,6 +31,13 @@ SceneDocument LoadDocument(const CliOptions& cli, const RenderSettings& render) 
 }  // namespace
 
 int Serve(const CliOptions& cli, const AppBackends& backends) {
+  // The preview edits a JSON document; a model file is rendered whole only by a plain render.
+  if (IsModelFile(cli.scenePath)) {
+    throw AppFailure{kExitBadInput,
+                     cli.scenePath + ": --serve previews JSON scenes: include the model in one "
+                     "as {\"type\": \"mesh\", \"file\": \"" + cli.scenePath + "\"} (with "
+                     "\"background\": [1, 1, 1] for the default environment; docs/serve.md)"};
+  }
   if (!backends.startServer) {
     throw AppFailure{kExitRuntimeFailure,
                      "--serve: this build has no preview server (install libcpp-httplib-dev "

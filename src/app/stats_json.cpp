@@ -50,6 +50,7 @@ Json StagesJson(const StageTimes& s) {
               {"shadow", s.shadow},
               {"compact", s.compact},
               {"accumulate", s.accumulate},
+              {"medium", s.medium},
               {"shade_queues", ShadeQueueTimesJson(s)}};
 }
 
@@ -178,6 +179,9 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
                    {"mean_nodes_visited", Mean(stats.nodesVisited, stats.traversals)},
                    {"mean_prims_tested", Mean(stats.primsTested, stats.traversals)}}},
       {"sort", SortJson(stats)},
+      {"light_sampler", Json{{"sampler", stats.lightSampler},
+                             {"tree_nodes", scene.lightTree.nodeCount},
+                             {"tree_build_ms", scene.lightBvhBuildMs}}},
       {"compact", stats.compactUsed},
       {"ray_order", stats.rayOrderUsed},
       {"prim_pool", stats.primPoolUsed},

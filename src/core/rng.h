@@ -22,7 +22,7 @@ PT_HDI float BitsToUnitFloat(uint32_t bits) { return float(bits >> 8) * 0x1p-24f
 // Which random dimensions a bounce uses; each call of Draw4 yields four numbers.
 enum RandomDim : uint32_t {
   kDimCamera = 0,       // pixel jitter (2) + lens (2)
-  kDimLight = 1,        // light choice (1), light position (2), spare
+  kDimLight = 1,        // light choice (1), light position (2), BVH walk (1)
   kDimBsdf = 2,         // lobe choice (1), direction (2), roulette (1)
   kDimsPerBounce = 4,
 };

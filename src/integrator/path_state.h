@@ -57,6 +57,9 @@ struct PathState {
   float* featureDepth;
   // The hit's instance; allocated, written and read only in scenes with instances.
   uint32_t* hitInstance;
+  // The receiver normal of the vertex the current ray left (PackReceiver), for the light BVH's
+  // pmf at an emitter the ray hits; allocated, written and read only under --light-sampler bvh.
+  uint32_t* prevNormal = nullptr;
 };
 
 // The hit as the intersect stage stores it: its instance only where the scene has instances, so
@@ -80,6 +83,7 @@ constexpr size_t kPathStateBytes = 4 * sizeof(vec3) + sizeof(float) + sizeof(uin
                                    sizeof(PathHit) + 3 * sizeof(vec3) + sizeof(float) +
                                    2 * sizeof(uint32_t);
 constexpr size_t kInstanceHitBytes = sizeof(uint32_t);
+constexpr size_t kReceiverBytes = sizeof(uint32_t);  // prevNormal, light BVH only
 
 // Integer statistics gathered by the stages.
 enum CounterId : uint32_t {

@@ -28,6 +28,8 @@ enum class LightPaths { kAll, kDirect, kIndirect };
 // each hit's distance raised to its primitive's box entry (ShapeBoxEntry).
 enum class TriangleTest { kWatertight, kMollerTrumbore, kBoxClamped };
 enum class EnvSampling { kImportance, kUniform };
+// How shadow rays estimate transmittance through grid media (--transmittance; docs/media.md).
+enum class TransmittanceMode { kRatio, kDelta };
 
 struct CropWindow {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1); empty = whole image
@@ -58,6 +60,8 @@ struct RenderOptions {
   EnvSampling envSampling = EnvSampling::kImportance;  // how the environment map is sampled
   int device = 0;                    // CUDA device index (an MPI rank's: local rank mod GPUs)
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
+  LightSampler lightSampler = LightSampler::kAuto;  // how next-event estimation picks a light
+  TransmittanceMode transmittance = TransmittanceMode::kRatio;  // shadow rays in grid media
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -88,6 +92,7 @@ struct FilmState {
 struct StageTimes {
   double generate = 0, intersect = 0, sort = 0, shade = 0, shadow = 0, compact = 0,
          accumulate = 0;
+  double medium = 0;  // the medium stage (scenes with participating media)
   std::array<double, kShadeQueueCount> shadeQueues{};  // per queue (--sort queues), in shade
 };
 
@@ -112,6 +117,7 @@ struct RenderStats {
   std::string sortReason;          // why auto chose it (the rule, or the calibration)
   uint64_t pathsOrdered = 0;       // paths ordered, summed over bounces
   std::string specialization;  // the stage variant that ran
+  std::string lightSampler;    // the light sampler that ran (auto's choice)
   std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
 };
 

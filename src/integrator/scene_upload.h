@@ -46,7 +46,7 @@ inline size_t SceneArrayBytes(const Scene& s) {
 // The arrays that RebuildTopLevel rewrites when instances move (src/scene/instances.h).
 inline bool IsTopLevelArray(const char* name) {
   for (const char* n : {"instances", "instanceOrder", "tlasNodes", "tlasWideNodes", "lightPmf",
-                        "lightCdf"}) {
+                        "lightCdf", "lightNodes", "lightTrails"}) {
     if (std::strcmp(n, name) == 0) return true;
   }
   return false;
@@ -76,6 +76,7 @@ void UploadSceneArrays(const Scene& scene, SceneBuffers<Backend>& b, Which which
   b.view.camera = old.camera;
   b.view.triangleTest = old.triangleTest;
   b.view.env.uniformSampling = old.env.uniformSampling;
+  b.view.lightTree.sampler = old.lightTree.sampler;
   b.hostBytes = SceneArrayBytes(scene);
   b.arrays.resize(kSceneArrayCount);
   const Scene& s = scene;
@@ -100,7 +101,8 @@ void UploadScene(const Scene& scene, SceneBuffers<Backend>& b) {
 // The arrays a material edit touches: the materials, the primitives' light indices and the
 // light table (an emitter's radiance sets its power; a material may start or stop emitting).
 inline bool IsAppearanceArray(const char* name) {
-  for (const char* n : {"materials", "prims", "lights", "lightPmf", "lightCdf"}) {
+  for (const char* n :
+       {"materials", "prims", "lights", "lightPmf", "lightCdf", "lightNodes", "lightTrails"}) {
     if (std::strcmp(n, name) == 0) return true;
   }
   return false;

@@ -86,6 +86,7 @@ class ShadeLauncher {
       switch (QueueClass(c)) {
         case FeatureClass::kDiffuse: ShadeQueues<FeatureClass::kDiffuse>(wave, in, n); break;
         case FeatureClass::kSmooth: ShadeQueues<FeatureClass::kSmooth>(wave, in, n); break;
+        case FeatureClass::kLayered: ShadeQueues<FeatureClass::kLayered>(wave, in, n); break;
         default: ShadeQueues<FeatureClass::kGeneral>(wave, in, n); break;
       }
     }
@@ -130,6 +131,7 @@ class ShadeLauncher {
         if (envMap) ShadeAll<FeatureClass::kSmooth, true>(wave, in, order, n);
         else ShadeAll<FeatureClass::kSmooth, false>(wave, in, order, n);
         break;
+      case FeatureClass::kLayered: ShadeAll<FeatureClass::kLayered, true>(wave, in, order, n); break;
       default: ShadeAll<FeatureClass::kGeneral, true>(wave, in, order, n); break;
     }
   }
@@ -155,9 +157,13 @@ class ShadeLauncher {
 
   // One kernel for queue Q, compiled only where class C can meet it, launched only where the
   // scene uses it; its range [ranges_[Q], ranges_[Q + 1]) is read on the device.
+  // The layered class runs its own kernels only for the queues whose materials can be layered
+  // (glTF, conductors with energy compensation); the others are the general class's kernels.
   template <FeatureClass C, uint32_t Q>
   void ShadeQueueIfUsed(const WaveInfo& wave, const Inputs& in, uint32_t n) {
-    if constexpr (ClassAdmitsQueue(C, Q)) {
+    if constexpr (C == FeatureClass::kLayered && !QueueMayBeLayered(Q)) {
+      ShadeQueueIfUsed<FeatureClass::kGeneral, Q>(wave, in, n);
+    } else if constexpr (ClassAdmitsQueue(C, Q)) {
       if (!keys_.Uses(Q)) return;
       Inputs inputs = in;
       const uint32_t* order = orderedSlots_.Data();

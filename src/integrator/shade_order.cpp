@@ -75,7 +75,7 @@ SortChoice ChooseSortMode(SortMode asked, const ShadeKeys& keys, FeatureClass fe
   // the general one: one textured glTF queue measured 1.23x on DamagedHelmet (H100). Cheap
   // materials (the diffuse and smooth variants) diverge little (issue 11: sorting lost 0.61x
   // and 0.77x on the Cornell box and the bunny).
-  if (featureClass != FeatureClass::kGeneral || !costly)
+  if (!IsGeneralClass(featureClass) || !costly)
     return SortChoice{SortMode::kOff, "no costly material (textured, plastic or glTF)"};
   if (queues < 2)
     return SortChoice{SortMode::kQueues, "one costly shade queue: its own kernel"};

@@ -53,6 +53,13 @@ constexpr bool ClassAdmitsQueue(FeatureClass c, uint32_t q) {
   }
 }
 
+// Whether queue q's materials can need the layered variant's BSDF (src/materials/
+// gltf_layered_sample.h): glTF materials, and conductors with energy compensation.
+constexpr bool QueueMayBeLayered(uint32_t q) {
+  return q < kEscapedQueue && (QueueMaterialType(q) == MaterialType::kGltfPbr ||
+                               QueueMaterialType(q) == MaterialType::kConductor);
+}
+
 // "diffuse", "gltf_pbr_textured", "escaped", ... (statistics).
 const char* ShadeQueueName(uint32_t q);
 

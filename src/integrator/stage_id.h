@@ -7,7 +7,9 @@ namespace pt {
 
 // kShadeQueue + q: the shade kernel of queue q (--sort queues), timed as shading and per queue.
 enum class Stage : uint32_t {
-  kGenerate, kIntersect, kSort, kShade, kShadow, kCompact, kAccumulate, kShadeQueue
+  kGenerate, kIntersect, kSort, kShade, kShadow, kCompact, kAccumulate,
+  kMedium,  // scenes with participating media only (stages/medium.h)
+  kShadeQueue
 };
 
 inline Stage ShadeQueueStage(uint32_t q) { return Stage(uint32_t(Stage::kShadeQueue) + q); }
@@ -21,6 +23,7 @@ inline void AddStageTime(StageTimes& t, Stage s, double ms) {
     case Stage::kShadow: t.shadow += ms; break;
     case Stage::kCompact: t.compact += ms; break;
     case Stage::kAccumulate: t.accumulate += ms; break;
+    case Stage::kMedium: t.medium += ms; break;
     default: {
       uint32_t q = uint32_t(s) - uint32_t(Stage::kShadeQueue);
       t.shade += ms;

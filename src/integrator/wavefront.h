@@ -17,6 +17,7 @@
 
 #include "src/integrator/film.h"
 #include "src/integrator/film_buffers.h"
+#include "src/integrator/media_pass.h"
 #include "src/integrator/flag_policy.h"
 #include "src/integrator/path_state.h"
 #include "src/integrator/render_api.h"
@@ -30,6 +31,7 @@
 #include "src/integrator/stages/shade.h"
 #include "src/integrator/stages/shadow.h"
 #include "src/integrator/wave_plan.h"
+#include "src/lights/light_bvh_build.h"
 
 namespace pt {
 
@@ -158,13 +160,14 @@ class WavefrontIntegrator {
       // is read contiguously, unless it sorts by material (whose keys follow the traced order).
       const uint32_t* traced = bounce > 0 && rayOrder_ ? OrderRays(n) : queue_.Data();
       IntersectClosest(traced, n);
+      if (media_.Active()) SampleMedia(wave, traced, n);
       Shade(wave, sortMode_ == SortMode::kOff ? queue_.Data() : traced, n);
       // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
       // queues a light sample: after the last bounce there is nothing to trace or compact.
       if (bounce >= params_.maxDepth) break;
       // Shadow rays leave the hit points of the rays just traced: in the traced order, rays that
       // arrived together leave together towards the same lights.
-      TraceShadowRays(traced, n);
+      TraceShadowRays(wave, traced, n);
       if (compact_) alive = n = CompactFinished(n);
       else alive = CountAlive(n);
     }
@@ -259,17 +262,31 @@ class WavefrontIntegrator {
     });
   }
 
+  // Medium (scenes with media only): delta tracking along each traced segment; scattering
+  // events are shaded there (src/integrator/stages/medium.h).
+  void SampleMedia(const WaveInfo& wave, const uint32_t* queue, uint32_t n) {
+    media_.Sample(sceneBuffers_.view, params_, wave, pathState_, queue, n, counters_.Data());
+  }
+
   // Shade: emission, next-event estimation (queues shadow rays), BSDF sampling, roulette;
   // in the variant compiled for the scene's effects (with or without environment-map code),
-  // in the order --sort asks for.
+  // in the order --sort asks for (media scenes: their own variants, in queue order).
   void Shade(const WaveInfo& wave, const uint32_t* queue, uint32_t n) {
+    if (media_.Active()) {
+      media_.Shade(featureClass_, envMap_, sceneBuffers_.view, params_, wave, pathState_, queue, n);
+      return;
+    }
     typename ShadeLauncher<Backend>::Inputs in{sceneBuffers_.view, params_, pathState_};
     stats_.pathsOrdered +=
         shade_.Shade(sortMode_, featureClass_, envMap_, wave, in, queue, n);
   }
 
-  // Shadow: any-hit test for each queued shadow ray.
-  void TraceShadowRays(const uint32_t* queue, uint32_t n) {
+  // Shadow: any-hit test for each queued shadow ray (media scenes: with transmittance).
+  void TraceShadowRays(const WaveInfo& wave, const uint32_t* queue, uint32_t n) {
+    if (media_.Active()) {
+      media_.TraceShadows(sceneBuffers_.view, wave, pathState_, queue, n, counters_.Data());
+      return;
+    }
     ForTraversal([&](auto layout, auto instanced, auto hitTest, auto pooled) {
       ShadowLayout<decltype(layout)::value, decltype(instanced)::value,
                    decltype(hitTest)::value, decltype(pooled)::value>(queue, n);
@@ -345,6 +362,7 @@ class WavefrontIntegrator {
   }
   void ApplyOptions(const RenderOptions& options);
   void ApplySortOptions();
+  void ApplyLightSampler();
   void SceneChanged();
   void TopLevelChanged();
   void MaterialsChanged();
@@ -396,8 +414,10 @@ class WavefrontIntegrator {
   Buffer<uint32_t> flags_, queue_;
   Buffer<uint32_t> rayKeys_, rayKeysOut_, rayQueue_;  // --ray-order's keys and ordered queue
   ShadeLauncher<Backend> shade_{backend_};
+  MediaPass<Backend> media_{backend_};  // participating media (inactive without them)
   Buffer<PathHit> hit_;
   Buffer<uint32_t> hitInstance_;
+  Buffer<uint32_t> prevNormal_;  // the light BVH sampler's receiver normals
   Buffer<vec3> featureAlbedo_, featureNormal_;
   Buffer<float> featureDepth_;
   PathState pathState_{};
@@ -408,6 +428,7 @@ class WavefrontIntegrator {
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;
   bool envMap_ = false;  // the scene has an environment map
+  LightSampler lightSampler_ = LightSampler::kPower;  // auto resolved
   // The hit-test traversal variants: some material asks for a hit test (alpha, back-face
   // culling), or --tri-test box-clamped (whose raise only they compile).
   bool hitTests_ = true;

@@ -39,6 +39,9 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.timeLimitSeconds = o.timeLimitSeconds;
   options_.previewEverySeconds = o.previewEverySeconds;
   options_.clampLuminance = o.clampLuminance;
+  options_.lightSampler = o.lightSampler;
+  ApplyLightSampler();
+  options_.transmittance = o.transmittance;
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
@@ -52,17 +55,33 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   stats_.primPoolUsed = primPool_;
   params_ = MakeParams(scene_.desc.render, options_);
   uint32_t effects = AnalyzeEffects(scene_);
-  featureClass_ = options_.specialize ? ChooseFeatureClass(effects) : FeatureClass::kGeneral;
+  featureClass_ =
+      options_.specialize ? ChooseFeatureClass(effects) : UnspecializedFeatureClass(effects);
   envMap_ = (effects & kEffectEnvironmentMap) != 0;
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
               options_.triangleTest == TriangleTest::kBoxClamped;
   stats_.specialization = FeatureClassName(featureClass_);
+  media_.SetEstimator(options_.transmittance == TransmittanceMode::kDelta
+                          ? TransmittanceEstimator::kDelta
+                          : TransmittanceEstimator::kRatio);
   ApplySortOptions();
   static_assert(uint32_t(TriangleTest::kMollerTrumbore) == kTriTestMollerTrumbore &&
                 uint32_t(TriangleTest::kBoxClamped) == kTriTestBoxClamped);
   sceneBuffers_.view.triangleTest = uint32_t(options_.triangleTest);
   sceneBuffers_.view.env.uniformSampling = options_.envSampling == EnvSampling::kUniform;
+}
+
+// The light sampler auto's rule or the options choose; the BVH's receiver normals per path.
+template <typename Backend>
+void WavefrontIntegrator<Backend>::ApplyLightSampler() {
+  lightSampler_ = ChooseLightSampler(options_.lightSampler, scene_);
+  stats_.lightSampler = LightSamplerName(lightSampler_);
+  sceneBuffers_.view.lightTree.sampler = uint32_t(lightSampler_);
+  if (lightSampler_ == LightSampler::kBvh && prevNormal_.Size() < queue_.Size()) {
+    prevNormal_.Resize(queue_.Size());
+    pathState_.prevNormal = prevNormal_.Data();
+  }
 }
 
 // The shading order: auto's choice from the scene's materials, the keys, the ordering buffers.
@@ -72,6 +91,10 @@ void WavefrontIntegrator<Backend>::ApplySortOptions() {
   SortChoice choice =
       ChooseSortMode(options_.sort, shade_.Keys(), featureClass_, Backend::kLockstepLanes);
   sortMode_ = choice.mode;
+  if (media_.Active() && sortMode_ != SortMode::kOff) {  // media variants shade in queue order
+    sortMode_ = SortMode::kOff;
+    choice.reason = "media scenes shade in queue order";
+  }
   bool ordering = sortMode_ != SortMode::kOff;
   if (ordering && queue_.Size() > 0) shade_.EnsureOrdering(queue_.Size());
   stats_.sortUsed = ordering;
@@ -86,6 +109,8 @@ template <typename Backend>
 void WavefrontIntegrator<Backend>::SceneChanged() {
   EnsureAllocated();
   UploadSceneArrays(scene_, sceneBuffers_, [](const char*) { return true; });
+  media_.SetScene(scene_);
+  media_.AllocatePaths(queue_.Size());
   if (scene_.HasInstances() && hitInstance_.Size() < queue_.Size()) {
     hitInstance_.Resize(queue_.Size());
     pathState_.hitInstance = hitInstance_.Data();
@@ -117,6 +142,7 @@ void WavefrontIntegrator<Backend>::Allocate() {
   adaptive_ = scene_.desc.render.adaptive;
   if (options_.adaptive != Toggle::kAuto) adaptive_.enabled = options_.adaptive == Toggle::kOn;
   UploadScene(scene_, sceneBuffers_);
+  media_.SetScene(scene_);
   ApplyOptions(options_);
   // Adaptive waves over fewer pixels pack more samples per wave: up to the path budget.
   size_t capacity = plan_.pathCapacity;
@@ -142,6 +168,7 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   if (sortMode_ != SortMode::kOff) shade_.EnsureOrdering(n);
   hit_.Resize(n);
   hitInstance_.Resize(scene_.HasInstances() ? n : 0);
+  media_.AllocatePaths(n);
   // Feature buffers exist only when asked for: a render without them pays nothing.
   size_t features = params_.featureBuffers ? n : 0;
   featureAlbedo_.Resize(features);
@@ -152,11 +179,15 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
                          hit_.Data(),            shadowOrigin_.Data(),  shadowDir_.Data(),
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
                          featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
+  prevNormal_.Resize(lightSampler_ == LightSampler::kBvh ? n : 0);
+  pathState_.prevNormal = prevNormal_.Data();
   stats_.pathsInFlight = n;
   stats_.pathStateBytesPerPath = kPathStateBytes + shade_.BytesPerPath() +
                                  (rayOrder_ ? 3 * sizeof(uint32_t) : 0) +
                                  (params_.featureBuffers ? kFeatureBytes : 0) +
-                                 (scene_.HasInstances() ? kInstanceHitBytes : 0);
+                                 (scene_.HasInstances() ? kInstanceHitBytes : 0) +
+                                 (lightSampler_ == LightSampler::kBvh ? kReceiverBytes : 0) +
+                                 media_.BytesPerPath();
 }
 
 template <typename Backend>

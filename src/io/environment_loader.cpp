@@ -139,6 +139,15 @@ void ReplaceEnvironmentMap(const std::string& path, SceneDesc* scene) {
                lights.end());
 }
 
+void RemoveEnvironment(SceneDesc* scene) {
+  scene->environment = EnvironmentDesc{};
+  scene->background = vec3(0.0f);
+  auto& lights = scene->directionalLights;
+  lights.erase(std::remove_if(lights.begin(), lights.end(),
+                              [](const DirectionalLightDesc& d) { return d.partOfEnvironment; }),
+               lights.end());
+}
+
 std::string DarkEnvironmentWarning(const SceneDesc& scene) {
   const EnvironmentDesc& env = scene.environment;
   if (!env.HasMap()) return "";

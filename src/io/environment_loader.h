@@ -29,6 +29,10 @@ void LoadEnvironmentMap(const std::string& path, const std::string& file,
 // "--env: FILE: what".
 void ReplaceEnvironmentMap(const std::string& path, SceneDesc* scene);
 
+// --env none: no environment at all (no map, sky, sun of the sky, or background); the
+// scene's own lights and emitters remain.
+void RemoveEnvironment(SceneDesc* scene);
+
 // "the environment is dark" when the scene has a map (or sky) and it emits nothing;
 // empty otherwise.
 std::string DarkEnvironmentWarning(const SceneDesc& scene);

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <map>
 #include <memory>
@@ -15,7 +14,12 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "src/io/gltf_accessors.h"
+#include "src/io/gltf_animation.h"
+#include "src/io/gltf_deform.h"
+#include "src/io/gltf_document.h"
 #include "src/io/gltf_material.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/gltf_nodes.h"
 #include "src/io/gltf_scene.h"
 
@@ -37,27 +41,6 @@ bool CaptureImage(tinygltf::Image* image, const int index, std::string*, std::st
 
 [[noreturn]] void Malformed(const std::string& what) { throw std::runtime_error(what); }
 
-// glTF indices (and sparse indices) are unsigned integers; a float or signed one is malformed.
-bool IsUnsignedIntegerType(int type) {
-  return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
-         type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-}
-
-// A binary glTF (the "glTF" magic); its container version must be 2 (tinygltf reads any).
-bool IsGlb(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char header[8] = {};
-  if (!in.read(reinterpret_cast<char*>(header), 4) || std::memcmp(header, "glTF", 4) != 0) {
-    return false;
-  }
-  if (!in.read(reinterpret_cast<char*>(header + 4), 4)) Malformed("truncated GLB header");
-  uint32_t version = uint32_t(header[4]) | uint32_t(header[5]) << 8 | uint32_t(header[6]) << 16 |
-                     uint32_t(header[7]) << 24;  // little-endian
-  if (version != 2) Malformed("GLB container version " + std::to_string(version) + " (expected 2)");
-  return true;
-}
-
 // A file as tinygltf parsed it: the model, its URI images' encoded bytes, the reader's warning.
 struct ParsedGltf {
   tinygltf::Model model;
@@ -69,10 +52,8 @@ std::shared_ptr<const ParsedGltf> ParseGltf(const std::string& path) {
   auto parsed = std::make_shared<ParsedGltf>();
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(CaptureImage, &parsed->images);
-  std::string err, warn;
-  bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&parsed->model, &err, &warn, path)
-                        : loader.LoadASCIIFromFile(&parsed->model, &err, &warn, path);
-  if (!ok) Malformed("cannot load glTF: " + (err.empty() ? "unknown error" : OneLine(err)));
+  // Draco and meshopt decoded, required extensions checked.
+  const std::string warn = LoadGltfDocument(path, loader, &parsed->model);
   if (!warn.empty()) parsed->warning = "glTF reader: " + OneLine(warn);
   return parsed;
 }
@@ -118,201 +99,31 @@ std::shared_ptr<const ParsedGltf> ReadModel(const std::string& path, MeshSink& s
   return parsed;
 }
 
-// One component of any glTF component type as a double (exact for every integer type).
-double ReadComponent(const unsigned char* p, int type, bool normalized) {
-  auto load = [p](auto v) { std::memcpy(&v, p, sizeof(v)); return v; };
-  switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(float());
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-      double v = load(int8_t());
-      return normalized ? std::max(v / 127.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load(uint8_t()) / (normalized ? 255.0 : 1.0);
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-      double v = load(int16_t());
-      return normalized ? std::max(v / 32767.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return load(uint16_t()) / (normalized ? 65535.0 : 1.0);
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load(uint32_t());
-    default: Malformed("unsupported accessor component type " + std::to_string(type));
-  }
-}
-
-// Bytes [offset, offset + (count - 1) * stride + elementSize) of a buffer view, bounds checked
-// without overflow (a malformed count must not wrap around).
-const unsigned char* ViewBytes(const tinygltf::Model& model, int viewIndex, size_t offset,
-                               size_t count, size_t stride, size_t elementSize) {
-  std::string name = "buffer view " + std::to_string(viewIndex);
-  if (viewIndex < 0 || size_t(viewIndex) >= model.bufferViews.size()) Malformed(name + " does not exist");
-  const tinygltf::BufferView& view = model.bufferViews[viewIndex];
-  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
-    Malformed(name + " names a missing buffer");
-  }
-  const std::vector<unsigned char>& data = model.buffers[view.buffer].data;
-  size_t length = view.byteLength;
-  bool fits = view.byteOffset <= data.size() && length <= data.size() - view.byteOffset;
-  if (count > 0) {
-    fits = fits && stride > 0 && offset <= length && elementSize <= length - offset &&
-           count - 1 <= (length - offset - elementSize) / stride;
-  }
-  if (!fits) Malformed(name + " is read past its end");
-  return data.data() + view.byteOffset + offset;
-}
-
-struct AccessorLayout {
-  int componentSize;
-  int components;
-  size_t ElementSize() const { return size_t(componentSize) * components; }
+// The shared parse as posed by `animation`: itself when no animation is chosen, else a copy
+// posed (ApplyGltfAnimation edits the nodes; the parse is shared by other loads).
+struct PosedGltf {
+  std::shared_ptr<const ParsedGltf> parsed;
+  std::unique_ptr<tinygltf::Model> copy;
+  GltfPoseReport pose;
+  const tinygltf::Model& Model() const { return copy ? *copy : parsed->model; }
 };
 
-void ReadDense(const tinygltf::Model& model, const tinygltf::Accessor& a, AccessorLayout layout,
-               std::vector<double>& out) {
-  if (size_t(a.bufferView) >= model.bufferViews.size()) Malformed("an accessor names a missing view");
-  int stride = a.ByteStride(model.bufferViews[a.bufferView]);
-  if (stride <= 0) Malformed("an accessor has an invalid byte stride");
-  const unsigned char* base =
-      ViewBytes(model, a.bufferView, a.byteOffset, a.count, stride, layout.ElementSize());
-  out.assign(a.count * layout.components, 0.0);
-  for (size_t i = 0; i < a.count; ++i) {
-    for (int c = 0; c < layout.components; ++c) {
-      out[i * layout.components + c] = ReadComponent(base + i * stride + c * layout.componentSize,
-                                                     a.componentType, a.normalized);
-    }
-  }
-}
-
-void ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, AccessorLayout layout,
-                 std::vector<double>& out) {
-  const auto& s = a.sparse;
-  int indexSize = tinygltf::GetComponentSizeInBytes(uint32_t(s.indices.componentType));
-  if (indexSize <= 0 || s.count < 0 || !IsUnsignedIntegerType(s.indices.componentType)) {
-    Malformed("an accessor has malformed sparse indices (not unsigned integers)");
-  }
-  size_t elementSize = layout.ElementSize();
-  const unsigned char* idx =
-      ViewBytes(model, s.indices.bufferView, s.indices.byteOffset, s.count, indexSize, indexSize);
-  const unsigned char* val =
-      ViewBytes(model, s.values.bufferView, s.values.byteOffset, s.count, elementSize, elementSize);
-  for (int i = 0; i < s.count; ++i) {
-    double target = ReadComponent(idx + i * indexSize, s.indices.componentType, false);
-    if (!(target >= 0 && target < double(a.count))) Malformed("a sparse index is out of range");
-    for (int c = 0; c < layout.components; ++c) {
-      out[size_t(target) * layout.components + c] = ReadComponent(
-          val + i * elementSize + c * layout.componentSize, a.componentType, a.normalized);
-    }
-  }
-}
-
-// Every element of an accessor (components per element checked), sparse substitution applied.
-std::vector<double> ReadAccessor(const tinygltf::Model& model, int index, int components) {
-  std::string name = "accessor " + std::to_string(index);
-  if (index < 0 || size_t(index) >= model.accessors.size()) Malformed(name + " does not exist");
-  const tinygltf::Accessor& a = model.accessors[index];
-  int actual = tinygltf::GetNumComponentsInType(uint32_t(a.type));
-  if (actual != components) {
-    Malformed(name + " has " + std::to_string(actual) + " components per element, expected " +
-              std::to_string(components));
-  }
-  AccessorLayout layout{tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType)), components};
-  if (layout.componentSize <= 0) Malformed(name + " has an unknown component type");
-  constexpr size_t kMaxElements = size_t(1) << 30;  // bounds a malformed count without a view
-  if (a.count > kMaxElements) Malformed(name + " has an absurd count");
-  std::vector<double> out;
-  if (a.bufferView >= 0) {
-    ReadDense(model, a, layout, out);
-  } else {
-    out.assign(a.count * components, 0.0);  // no buffer view: zeros, then the sparse values
-  }
-  if (a.sparse.isSparse) ApplySparse(model, a, layout, out);
-  return out;
-}
-
-std::vector<vec3> ReadVec3s(const tinygltf::Model& model, int index) {
-  std::vector<double> raw = ReadAccessor(model, index, 3);
-  std::vector<vec3> out(raw.size() / 3);
-  for (size_t i = 0; i < out.size(); ++i) {
-    out[i] = vec3(float(raw[3 * i]), float(raw[3 * i + 1]), float(raw[3 * i + 2]));
+PosedGltf Pose(std::shared_ptr<const ParsedGltf> parsed, const GltfAnimationChoice& animation) {
+  PosedGltf out;
+  out.parsed = std::move(parsed);
+  if (animation.Active()) {
+    out.copy = std::make_unique<tinygltf::Model>(out.parsed->model);
+    out.pose = ApplyGltfAnimation(*out.copy, animation);
   }
   return out;
-}
-
-// TEXCOORD_n: float, or normalized unsigned byte/short (normalization applied when reading).
-std::vector<vec2> ReadVec2s(const tinygltf::Model& model, int index) {
-  std::vector<double> raw = ReadAccessor(model, index, 2);
-  std::vector<vec2> out(raw.size() / 2);
-  for (size_t i = 0; i < out.size(); ++i) out[i] = vec2(float(raw[2 * i]), float(raw[2 * i + 1]));
-  return out;
-}
-
-// TANGENT: four floats (xyz and the bitangent sign w).
-std::vector<vec4> ReadTangents(const tinygltf::Model& model, int index) {
-  std::vector<double> raw = ReadAccessor(model, index, 4);
-  std::vector<vec4> out(raw.size() / 4);
-  for (size_t i = 0; i < out.size(); ++i)
-    out[i] = vec4(float(raw[4 * i]), float(raw[4 * i + 1]), float(raw[4 * i + 2]), float(raw[4 * i + 3]));
-  return out;
-}
-
-// COLOR_0: VEC3 or VEC4 of float or normalized unsigned byte/short, linear; RGB gets alpha 1.
-// Components are clamped to [0, 1] (a float colour may stray; it scales a reflectance).
-std::vector<vec4> ReadColors(const tinygltf::Model& model, int index) {
-  int components = 4;
-  if (index >= 0 && size_t(index) < model.accessors.size() &&
-      model.accessors[index].type == TINYGLTF_TYPE_VEC3) {
-    components = 3;
-  }
-  std::vector<double> raw = ReadAccessor(model, index, components);
-  std::vector<vec4> out(raw.size() / components);
-  for (size_t i = 0; i < out.size(); ++i) {
-    for (int c = 0; c < 4; ++c) {
-      double v = c < components ? raw[i * components + c] : 1.0;
-      out[i][c] = float(std::isnan(v) ? 1.0 : std::clamp(v, 0.0, 1.0));
-    }
-  }
-  return out;
-}
-
-// Vertex indices of the primitive's triangles, three per triangle, in glTF winding.
-std::vector<uint32_t> TriangleIndices(const tinygltf::Model& model, const tinygltf::Primitive& p,
-                                      size_t vertexCount) {
-  std::vector<uint32_t> v;
-  if (p.indices >= 0) {
-    if (size_t(p.indices) < model.accessors.size() &&
-        !IsUnsignedIntegerType(model.accessors[p.indices].componentType)) {
-      Malformed("index accessor " + std::to_string(p.indices) +
-                " is not of an unsigned integer type");
-    }
-    for (double d : ReadAccessor(model, p.indices, 1)) {
-      if (!(d >= 0.0 && d < double(vertexCount))) {  // d is an unsigned integer (checked)
-        Malformed("index " + std::to_string(uint64_t(d)) + " out of range (" +
-                  std::to_string(vertexCount) + " vertices)");
-      }
-      v.push_back(uint32_t(d));
-    }
-  } else {
-    for (size_t i = 0; i < vertexCount; ++i) v.push_back(uint32_t(i));
-  }
-  std::vector<uint32_t> tri;
-  size_t n = v.size();
-  if (p.mode == TINYGLTF_MODE_TRIANGLES) {
-    tri.assign(v.begin(), v.begin() + (n / 3) * 3);
-  } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-    for (size_t i = 0; i + 2 < n; ++i) {
-      size_t odd = i % 2;  // every other strip triangle is reversed to keep the winding
-      tri.insert(tri.end(), {v[i], v[i + 1 + odd], v[i + 2 - odd]});
-    }
-  } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-    for (size_t i = 1; i + 1 < n; ++i) tri.insert(tri.end(), {v[i], v[i + 1], v[0]});
-  }
-  return tri;
 }
 
 // Walks the node hierarchy and emits each mesh's triangles.
 class GltfWalker {
  public:
-  GltfWalker(const tinygltf::Model& model, const GltfEncodedImages& images, MeshSink& sink)
-      : model_(model), sink_(sink), materials_(model, images, sink) {}
+  GltfWalker(const tinygltf::Model& model, const GltfEncodedImages& images, MeshSink& sink,
+             int variant)
+      : model_(model), sink_(sink), materials_(model, images, sink), variant_(variant) {}
 
   void VisitNode(int index, const glm::dmat4& parent, int depth) {
     const tinygltf::Node& node = GltfNodeAt(model_, index, depth);
@@ -322,15 +133,39 @@ class GltfWalker {
         Malformed("nodes[" + std::to_string(index) + "].mesh: mesh " + std::to_string(node.mesh) +
                   " does not exist");
       }
-      EmitMesh(node.mesh, world);
+      EmitMesh(node.mesh, world, index);
     }
     for (int child : node.children) VisitNode(child, world, depth + 1);
   }
 
  private:
+  // How a node deforms its mesh: morph weights (all zero: none) and a skin's joint matrices.
+  struct Deformation {
+    std::vector<double> weights;
+    std::vector<glm::dmat4> joints;
+    glm::dmat4 meshWorld{1.0};  // the node's, in the file's space (for weightless vertices)
+    bool Active() const {
+      return !joints.empty() || std::any_of(weights.begin(), weights.end(), [](double w) { return w != 0.0; });
+    }
+  };
+
+  Deformation DeformationOf(int nodeIndex) {
+    const tinygltf::Node& node = model_.nodes[size_t(nodeIndex)];
+    Deformation d;
+    d.weights = GltfMorphWeights(model_, node);
+    if (node.skin >= 0) {
+      if (nodeWorld_.empty()) nodeWorld_ = GltfNodeWorldMatrices(model_);
+      d.joints = GltfJointMatrices(model_, node.skin, nodeWorld_);
+      d.meshWorld = nodeWorld_[size_t(nodeIndex)];
+    }
+    return d;
+  }
+
   // A mesh that several nodes use is stored once and placed by each node's transform (an
-  // instance); a mesh used once is flattened into world space.
-  void EmitMesh(int meshIndex, const glm::dmat4& toWorld) {
+  // instance); a mesh used once is flattened into world space. A skinned or morphed mesh is
+  // deformed for each node that places it: a skin places it in world space by its joints (the
+  // node's own transform does not apply, as glTF says).
+  void EmitMesh(int meshIndex, const glm::dmat4& toWorld, int nodeIndex) {
     auto emit = [&] {
       const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
       for (size_t i = 0; i < mesh.primitives.size(); ++i) {
@@ -342,6 +177,14 @@ class GltfWalker {
         }
       }
     };
+    Deformation deformation = DeformationOf(nodeIndex);
+    if (deformation.Active()) {
+      deform_ = &deformation;
+      sink_.SetTransform(deformation.joints.empty() ? toWorld : sink_.ObjectToWorld());
+      emit();
+      deform_ = nullptr;
+      return;
+    }
     if (sink_.InstancesAllowed() && MeshUses(meshIndex) > 1) {
       sink_.PlaceInstance(meshIndex, toWorld, emit);
       return;
@@ -385,22 +228,24 @@ class GltfWalker {
     std::vector<vec3> positions = ReadVec3s(model_, position->second);
     size_t n = positions.size();
     std::vector<vec3> normals = Attribute(p, "NORMAL", n, ReadVec3s);
-    uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(p.material);
+    int own = GltfVariantMaterial(p, variant_);
+    uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(own);
     // Only what the material reads is kept: a scene pays for the per-vertex data it uses.
-    GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(p.material);
+    GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(own);
     std::vector<vec2> uvs[2];
     for (int set = 0; set < 2; ++set) {
       if (!needs.uv[set]) continue;
       std::string name = "TEXCOORD_" + std::to_string(set);
       uvs[set] = Attribute(p, name.c_str(), n, ReadVec2s);
       if (uvs[set].empty()) {
-        materials_.Note("textures read at (0, 0) on primitives without " + name, p.material);
+        materials_.Note("textures read at (0, 0) on primitives without " + name, own);
         uvs[set].assign(n, vec2(0.0f));  // explicit zeros, not the barycentrics
       }
     }
     std::vector<vec4> tangents, colors;
     if (needs.tangents) tangents = Attribute(p, "TANGENT", n, ReadTangents);
     if (needs.colors) colors = Attribute(p, "COLOR_0", n, ReadColors);
+    if (deform_) Deform(p, positions, normals, tangents);
     std::vector<uint32_t> tri = TriangleIndices(model_, p, n);
     for (size_t t = 0; t + 2 < tri.size(); t += 3) {
       uint32_t idx[3] = {tri[t], tri[t + 1], tri[t + 2]};
@@ -425,6 +270,16 @@ class GltfWalker {
     }
   }
 
+  void Deform(const tinygltf::Primitive& p, std::vector<vec3>& positions,
+              std::vector<vec3>& normals, std::vector<vec4>& tangents) {
+    GltfVertices v{std::move(positions), std::move(normals), std::move(tangents)};
+    ApplyGltfMorphTargets(model_, p, deform_->weights, v);
+    if (!deform_->joints.empty()) ApplyGltfSkin(model_, p, deform_->joints, deform_->meshWorld, v);
+    positions = std::move(v.positions);
+    normals = std::move(v.normals);
+    tangents = std::move(v.tangents);
+  }
+
  public:
   void Finish() { materials_.Finish(); }
 
@@ -432,17 +287,22 @@ class GltfWalker {
   const tinygltf::Model& model_;
   MeshSink& sink_;
   GltfMaterialTable materials_;
+  int variant_;  // KHR_materials_variants index, -1: the primitives' own materials
   bool warnedMode_ = false;
   std::vector<int> meshUses_;
+  std::vector<glm::dmat4> nodeWorld_;    // every node's, once a skin needs them
+  const Deformation* deform_ = nullptr;  // of the mesh being emitted
 };
 
 }  // namespace
 
-GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
-  const std::shared_ptr<const ParsedGltf> parsed = ReadModel(path, sink);
-  const tinygltf::Model& model = parsed->model;
-  CheckGltfRequiredExtensions(model);
-  GltfWalker walker(model, parsed->images, sink);
+GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
+                               const GltfAnimationChoice& animation) {
+  const PosedGltf posed = Pose(ReadModel(path, sink), animation);
+  const tinygltf::Model& model = posed.Model();
+  const GltfPoseReport& pose = posed.pose;
+  if (!pose.warning.empty()) sink.Warn(pose.warning);
+  GltfWalker walker(model, posed.parsed->images, sink, GltfVariantIndex(model, sink.Variant()));
   int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();
@@ -451,15 +311,14 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink) {
     sink.Warn(std::to_string(skipped) + " node" + (skipped > 1 ? "s" : "") +
               " with a singular transform (scale 0) not placed");
   }
-  return ReadGltfSceneContents(model, sink.ObjectToWorld());
+  return ReadGltfSceneContents(model, sink.ObjectToWorld(), pose.posed);
 }
 
-GltfSceneContents ReadGltfSceneParts(const std::string& path) {
+GltfSceneContents ReadGltfSceneParts(const std::string& path, const GltfAnimationChoice& animation) {
   SceneDesc unused;
   MeshSink sink(unused, glm::dmat4(1.0), -1, path);
-  const std::shared_ptr<const ParsedGltf> parsed = ReadModel(path, sink);
-  CheckGltfRequiredExtensions(parsed->model);
-  return ReadGltfSceneContents(parsed->model, glm::dmat4(1.0));
+  const PosedGltf posed = Pose(ReadModel(path, sink), animation);
+  return ReadGltfSceneContents(posed.Model(), glm::dmat4(1.0), posed.pose.posed);
 }
 
 GltfParseCache::GltfParseCache() {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "src/io/gltf_animation.h"
 #include "src/io/gltf_scene.h"
 #include "src/io/mesh_common.h"
 
@@ -15,11 +16,15 @@ namespace pt {
 
 // Loads the file's triangles into the sink (its materials too, unless the sink overrides them)
 // and returns its cameras, lights and ignored parts (src/io/gltf_scene.h), placed by the
-// sink's object transform. Throws std::runtime_error for an unreadable or malformed file.
-GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink);
+// sink's object transform, in the pose `animation` chooses (the static pose by default;
+// skins and morph targets applied either way). Throws std::runtime_error for an unreadable or
+// malformed file.
+GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
+                               const GltfAnimationChoice& animation = {});
 
 // The cameras, lights and ignored parts alone (no triangles), in the file's own space.
-GltfSceneContents ReadGltfSceneParts(const std::string& path);
+GltfSceneContents ReadGltfSceneParts(const std::string& path,
+                                     const GltfAnimationChoice& animation = {});
 
 // While one is alive, each glTF file is parsed once and its parse shared by every load of it
 // (a scene placing one file 141 times parses it once), and Prefetch parses files on threads

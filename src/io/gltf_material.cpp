@@ -47,7 +47,8 @@ double Clamped01(double v, double ifNan) { return std::isnan(v) ? ifNan : std::c
 // Material extensions whose meaning the mapping honours; any other is named.
 bool HandledExtension(const std::string& name) {
   return name == "KHR_materials_transmission" || name == "KHR_materials_ior" ||
-         name == "KHR_materials_volume" || name == "KHR_materials_emissive_strength";
+         name == "KHR_materials_volume" || name == "KHR_materials_emissive_strength" ||
+         LayeredGltfExtension(name);
 }
 
 // KHR_materials_ior (default 1.5); a non-finite or non-positive index is replaced.
@@ -103,6 +104,7 @@ void MapAlpha(const tinygltf::Material& m, Material& out, std::vector<std::strin
 // (metallic 0's coated diffuse, tints, textures other than base colour on a metal, emission,
 // COLOR_0) stays kGltfPbr.
 void UsePlainMaterialWhereExact(Material& m, bool hasVertexColors) {
+  if (m.ext >= 0 || (m.flags & kMaterialUnlit)) return;  // the layered BSDF's
   bool textured = m.metallicRoughnessTexture >= 0 || m.normalTexture >= 0 ||
                   m.emissiveTexture >= 0 || m.transmissionTexture >= 0;
   bool alpha = (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) != 0;
@@ -150,6 +152,15 @@ MappedGltfMaterial MapGltfMaterial(const tinygltf::Material& m) {
   // a volume must meet its boundary from behind to leave it.
   if (!m.doubleSided && !transmissive) out.flags |= kMaterialCullBack;
   if (m.occlusionTexture.index >= 0) notes.push_back("occlusionTexture ignored");
+  if (Extension(m.extensions, "KHR_materials_unlit")) {
+    // Unlit: the base colour is what the surface shows (as if emissive); nothing else applies.
+    out.flags |= kMaterialUnlit;
+    out.radiance = vec3(0.0f);
+  } else {
+    mapped.extension = MapGltfExtensions(m, notes);
+    // Diffuse transmission lets light through from behind: its back faces are not culled.
+    if (mapped.extension.mask & kExtDiffuseTransmission) out.flags &= ~kMaterialCullBack;
+  }
   for (const auto& [name, value] : m.extensions) {
     if (!HandledExtension(name)) notes.push_back(name + " ignored");
   }
@@ -244,6 +255,10 @@ uint32_t GltfMaterialTable::Index(int index) {
     if (!legacy) {
       needs.colors = true;
       ResolveTextures(source, index, m);
+      if (mapped.extension.mask != 0) {
+        ResolveExtensionTextures(source, index, mapped.extension);
+        m.ext = sink_.AddMaterialExtension(mapped.extension);
+      }
       UsePlainMaterialWhereExact(m, colored_.count(index) > 0);
     } else if (m.type == MaterialType::kConductor || m.type == MaterialType::kPlastic) {
       Slot base{source.pbrMetallicRoughness.baseColorTexture.index, 0, nullptr};
@@ -278,20 +293,9 @@ void GltfMaterialTable::ResolveTextures(const tinygltf::Material& source, int ma
   if (!IsBlack(m.radiance))  // a black factor makes the texture irrelevant: not decoded
     m.emissiveTexture = AddSlot(slotOf(source.emissiveTexture), true, "emissiveTexture", material);
   const Value* transmission = Extension(source.extensions, "KHR_materials_transmission");
-  if (m.transmission > 0.0f && transmission && transmission->Has("transmissionTexture")) {
-    const Value& info = transmission->Get("transmissionTexture");
-    Slot slot;
-    if (info.IsObject() && info.Has("index") && info.Get("index").IsInt())
-      slot.texture = info.Get("index").GetNumberAsInt();
-    if (info.IsObject() && info.Has("texCoord") && info.Get("texCoord").IsInt())
-      slot.texCoord = info.Get("texCoord").GetNumberAsInt();
-    if (info.IsObject() && info.Has("extensions") && info.Get("extensions").IsObject()) {
-      const Value& ext = info.Get("extensions");
-      if (ext.Has("KHR_texture_transform") && ext.Get("KHR_texture_transform").IsObject())
-        slot.transform = &ext.Get("KHR_texture_transform");
-    }
-    m.transmissionTexture = AddSlot(slot, false, "transmissionTexture", material);
-  }
+  if (m.transmission > 0.0f)
+    m.transmissionTexture = AddSlot(SlotIn(transmission, "transmissionTexture"), false,
+                                    "transmissionTexture", material);
 }
 
 }  // namespace pt

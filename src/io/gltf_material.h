@@ -24,9 +24,16 @@ namespace pt {
 // what the renderer cannot honour, each a phrase for the summary ("occlusionTexture ignored").
 struct MappedGltfMaterial {
   Material material;
+  GltfMaterialExtension extension;  // mask 0: none (textures resolved by GltfMaterialTable)
   std::vector<std::string> approximations;
 };
 MappedGltfMaterial MapGltfMaterial(const tinygltf::Material& material);
+
+// The extensions of the layered BSDF (gltf_material_ext.cpp): whether `name` is one, and a
+// material's factors of them (mask bits only for extensions with an effect).
+bool LayeredGltfExtension(const std::string& name);
+GltfMaterialExtension MapGltfExtensions(const tinygltf::Material& material,
+                                        std::vector<std::string>& notes);
 
 // The previous mapping onto the plain materials (conductor for metallic >= 0.5, plastic below,
 // dielectric when transmissive, emissive when emitting; base colour texture only), kept to
@@ -68,6 +75,9 @@ class GltfMaterialTable {
     const tinygltf::Value* transform = nullptr;  // the KHR_texture_transform object, or null
   };
   int32_t AddSlot(const Slot& slot, bool srgb, const char* name, int material);
+  static Slot SlotIn(const tinygltf::Value* extension, const char* key);
+  void ResolveExtensionTextures(const tinygltf::Material& source, int material,
+                                GltfMaterialExtension& e);
   int32_t SceneTexture(int texture, bool srgb, int material);
   int32_t ImageTexels(int image, bool srgb, TextureWrap wrapS, TextureWrap wrapT, int material);
   void ResolveTextures(const tinygltf::Material& source, int material, Material& m);

@@ -52,6 +52,34 @@ std::vector<int> GltfRootNodes(const tinygltf::Model& model) {
   return roots;
 }
 
+std::vector<glm::dmat4> GltfNodeWorldMatrices(const tinygltf::Model& model) {
+  size_t n = model.nodes.size();
+  std::vector<int> parent(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    for (int c : model.nodes[i].children) {
+      if (c >= 0 && size_t(c) < n) parent[size_t(c)] = int(i);
+    }
+  }
+  std::vector<glm::dmat4> world(n);
+  std::vector<bool> done(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<size_t> chain;  // i and its ancestors not yet done, nearest first
+    for (int k = int(i); k >= 0 && !done[size_t(k)]; k = parent[size_t(k)]) {
+      chain.push_back(size_t(k));
+      if (chain.size() > size_t(kMaxGltfNodeDepth)) {
+        throw std::runtime_error("the node hierarchy is cyclic or too deep");
+      }
+    }
+    for (size_t j = chain.size(); j-- > 0;) {
+      size_t k = chain[j];
+      int p = parent[k];
+      world[k] = (p >= 0 ? world[size_t(p)] : glm::dmat4(1.0)) * GltfLocalMatrix(model.nodes[k]);
+      done[k] = true;
+    }
+  }
+  return world;
+}
+
 const tinygltf::Node& GltfNodeAt(const tinygltf::Model& model, int index, int depth) {
   if (index < 0 || size_t(index) >= model.nodes.size()) {
     throw std::runtime_error("node " + std::to_string(index) +

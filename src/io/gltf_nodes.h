@@ -23,6 +23,11 @@ glm::dmat4 GltfLocalMatrix(const tinygltf::Node& node);
 // walk is deeper than kMaxGltfNodeDepth.
 const tinygltf::Node& GltfNodeAt(const tinygltf::Model& model, int index, int depth);
 
+// Every node's world matrix (its parents' local matrices composed with its own; a node nobody
+// names as a child is a root), in the file's space. Skins read their joints' from it. Throws
+// std::runtime_error for a cyclic or too deep hierarchy.
+std::vector<glm::dmat4> GltfNodeWorldMatrices(const tinygltf::Model& model);
+
 // The root nodes of the default scene (scene 0 when none is named); without scenes, every
 // node that is nobody's child.
 std::vector<int> GltfRootNodes(const tinygltf::Model& model);

@@ -23,18 +23,21 @@ std::string Plural(size_t n, const std::string& one, const std::string& many) {
 
 // Extensions read here or by the mesh and material loaders (KHR_mesh_quantization only widens
 // the accessor types, which the accessor reader takes generally). Material and texture
-// extensions the material mapping cannot honour are named in its own summary line.
+// extensions the material mapping cannot honour are named in its own summary line. Draco and
+// meshopt data are decoded before tinygltf parses the file (src/io/gltf_document.h); WebP is
+// decoded, and KHR_texture_basisu's KTX2 images are replaced by their fallback (a texture
+// without one is refused there).
 bool IsReadExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_mesh_quantization" ||
-         name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0;
+         name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 ||
+         name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
+         name == "KHR_meshopt_compression" || name == "EXT_texture_webp";
 }
 
 // Required extensions that are harmless when unread: none change geometry or visibility
 // except the compression and image-format ones, which would leave the renderer nothing to
 // read, so a file requiring any other unread extension is refused too.
-bool IsReadableWhenRequired(const std::string& name) {
-  return IsReadExtension(name) && name != "KHR_texture_basisu";
-}
+bool IsReadableWhenRequired(const std::string& name) { return IsReadExtension(name); }
 
 // A unit direction of the node's frame in world space; throws when the transform collapses it.
 glm::dvec3 WorldDirection(const glm::dmat4& world, glm::dvec3 local, const std::string& part) {
@@ -173,7 +176,8 @@ class SceneReader {
 };
 
 // What the file has that no loader reads, as summary phrases.
-void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSceneContents& out) {
+void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, bool animated,
+                 GltfSceneContents& out) {
   size_t orthographic = 0;
   for (const GltfCamera& c : out.cameras) orthographic += c.perspective ? 0 : 1;
   if (orthographic > 0) {
@@ -184,18 +188,10 @@ void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSc
     out.ignored.push_back("the range of " + Plural(reader.ignoredRanges, "light", "lights") +
                           " (inverse-square falloff everywhere)");
   }
-  if (!model.animations.empty()) {
+  if (!model.animations.empty() && !animated) {
     out.ignored.push_back(Plural(model.animations.size(), "animation", "animations") +
-                          " (the rest pose is rendered)");
+                          " (the static pose is rendered; --time SECONDS poses one)");
   }
-  if (!model.skins.empty()) {
-    out.ignored.push_back(Plural(model.skins.size(), "skin", "skins") + " (meshes unskinned)");
-  }
-  size_t morphed = 0;
-  for (const tinygltf::Mesh& m : model.meshes) {
-    for (const tinygltf::Primitive& p : m.primitives) morphed += p.targets.empty() ? 0 : 1;
-  }
-  if (morphed > 0) out.ignored.push_back("morph targets (the base shapes are rendered)");
   for (const std::string& name : model.extensionsUsed) {
     if (!IsReadExtension(name)) out.ignored.push_back("extension " + name);
   }
@@ -204,7 +200,11 @@ void ListIgnored(const tinygltf::Model& model, const SceneReader& reader, GltfSc
 }  // namespace
 
 void CheckGltfRequiredExtensions(const tinygltf::Model& model) {
-  for (const std::string& name : model.extensionsRequired) {
+  CheckGltfRequiredExtensions(model.extensionsRequired);
+}
+
+void CheckGltfRequiredExtensions(const std::vector<std::string>& required) {
+  for (const std::string& name : required) {
     if (!IsReadableWhenRequired(name)) {
       Fail("extensionsRequired: the file requires " + name + ", which this renderer cannot read");
     }
@@ -212,13 +212,13 @@ void CheckGltfRequiredExtensions(const tinygltf::Model& model) {
 }
 
 GltfSceneContents ReadGltfSceneContents(const tinygltf::Model& model,
-                                        const glm::dmat4& objectToWorld) {
+                                        const glm::dmat4& objectToWorld, bool animated) {
   GltfSceneContents out;
   SceneReader reader(model, out);
   for (int root : GltfRootNodes(model)) reader.Visit(root, objectToWorld, 0);
   std::sort(out.cameras.begin(), out.cameras.end(),
             [](const GltfCamera& a, const GltfCamera& b) { return a.index < b.index; });
-  ListIgnored(model, reader, out);
+  ListIgnored(model, reader, animated, out);
   return out;
 }
 

@@ -31,7 +31,7 @@ struct GltfSceneContents {
   std::vector<PointLightDesc> pointLights;
   std::vector<SpotLightDesc> spotLights;
   std::vector<DirectionalLightDesc> directionalLights;
-  // Phrases for the file's summary line, e.g. "2 animations (the rest pose is rendered)".
+  // Phrases for the file's summary line, e.g. "2 orthographic cameras (unsupported)".
   std::vector<std::string> ignored;
 
   size_t LightCount() const {
@@ -39,15 +39,18 @@ struct GltfSceneContents {
   }
 };
 
-// Refuses a file that requires an extension the renderer cannot read (Draco, meshopt, basisu
-// ...): std::runtime_error naming it. Called before any mesh is read.
+// Refuses a file that requires an extension the renderer cannot read (one it does not know):
+// std::runtime_error naming it. Called on the JSON before tinygltf parses the file
+// (src/io/gltf_document.h), so a parser error cannot come first.
+void CheckGltfRequiredExtensions(const std::vector<std::string>& required);
 void CheckGltfRequiredExtensions(const tinygltf::Model& model);
 
 // Walks the default scene's nodes for cameras and lights (objectToWorld applied after the
 // node transforms) and lists what is ignored. Throws std::runtime_error naming the glTF part
 // ("cameras[2]", "KHR_lights_punctual.lights[0]") for a malformed one.
+// `animated`: an animation posed the nodes (the file's animations are then not "ignored").
 GltfSceneContents ReadGltfSceneContents(const tinygltf::Model& model,
-                                        const glm::dmat4& objectToWorld);
+                                        const glm::dmat4& objectToWorld, bool animated = false);
 
 // The camera a selector picks: "" for the first perspective camera (lowest index) or null when
 // there is none; otherwise a camera index ("2") or a camera or node name. Throws

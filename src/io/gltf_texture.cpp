@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "src/io/gltf_image_formats.h"
 #include "src/io/gltf_material.h"
 #include "src/materials/texture_pyramid.h"
 
@@ -136,7 +137,8 @@ int32_t GltfMaterialTable::SceneTexture(int texture, bool srgb, int material) {
       Note("NEAREST magnification rendered bilinear", material);
     }
   }
-  if (t.source < 0) {
+  int source = GltfTextureImageSource(t);  // EXT_texture_webp's, or KHR_texture_basisu's fallback
+  if (source < 0) {
     std::string extensions;
     for (const auto& [name, value] : t.extensions) extensions += " " + name;
     Note("textures without an image this renderer reads (" +
@@ -145,13 +147,13 @@ int32_t GltfMaterialTable::SceneTexture(int texture, bool srgb, int material) {
          material);
     return -1;
   }
-  if (size_t(t.source) >= model_.images.size()) {
-    throw std::runtime_error("image " + std::to_string(t.source) + " does not exist");
+  if (size_t(source) >= model_.images.size()) {
+    throw std::runtime_error("image " + std::to_string(source) + " does not exist");
   }
-  auto texels = imageTexels_.find({t.source, srgb});
+  auto texels = imageTexels_.find({source, srgb});
   int32_t stored = texels != imageTexels_.end() ? texels->second
-                                                : ImageTexels(t.source, srgb, wrapS, wrapT, material);
-  imageTexels_[{t.source, srgb}] = stored;
+                                                : ImageTexels(source, srgb, wrapS, wrapT, material);
+  imageTexels_[{source, srgb}] = stored;
   if (stored < 0) {
     Note("unusable textures ignored, factors used", material);
     return -1;
@@ -185,8 +187,9 @@ int32_t GltfMaterialTable::ImageTexels(int image, bool srgb, TextureWrap wrapS, 
   tinygltf::Image decoded;
   decoded.name = source.name;
   std::string err, warn;
-  if (size > size_t(INT_MAX) ||
-      !tinygltf::LoadImageData(&decoded, image, &err, &warn, 0, 0, bytes, int(size), nullptr)) {
+  bool other = DecodeGltfImageFormat(bytes, size, which, &decoded);  // WebP; KTX2 refused
+  if (!other && (size > size_t(INT_MAX) || !tinygltf::LoadImageData(&decoded, image, &err, &warn,
+                                                                     0, 0, bytes, int(size), nullptr))) {
     std::string type = source.mimeType.empty() ? std::string() : " (" + source.mimeType + ")";
     throw std::runtime_error(which + type + " cannot be decoded" +
                              (err.empty() ? std::string() : " (" + OneLine(err) + ")"));

@@ -186,6 +186,11 @@ uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name
   return uint32_t(scene_.materials.size() - 1);
 }
 
+int32_t MeshSink::AddMaterialExtension(const GltfMaterialExtension& extension) {
+  scene_.materialExtensions.push_back(extension);
+  return int32_t(scene_.materialExtensions.size() - 1);
+}
+
 int32_t MeshSink::AddTexture(uint32_t width, uint32_t height, TextureWrap wrapS, TextureWrap wrapT,
                              bool srgb, const std::vector<uint32_t>& texels) {
   // Lookups index a level's texels with int32 (row * width + column) from a uint32 offset.

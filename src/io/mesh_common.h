@@ -40,6 +40,9 @@ class MeshSink {
   bool HasOverride() const { return materialOverride_ >= 0; }
   uint32_t Override() const { return uint32_t(materialOverride_); }
   const glm::dmat4& ObjectToWorld() const { return objectToWorld_; }
+  // KHR_materials_variants: the variant a glTF file's materials are taken from (empty: none).
+  void SetVariant(std::string name) { variant_ = std::move(name); }
+  const std::string& Variant() const { return variant_; }
 
   // toWorld maps the mesh's coordinates to world space. A mirroring one (negative determinant)
   // swaps two vertices of every triangle, so the front stays the outside (glTF's rule).
@@ -69,6 +72,8 @@ class MeshSink {
   }
 
   uint32_t AddMaterial(const Material& material, const std::string& name);
+  // A glTF material's extension entry (Material::ext takes the index returned).
+  int32_t AddMaterialExtension(const GltfMaterialExtension& extension);
   // Appends a texture: level 0's packed RGBA8 texels (width * height, rows top to bottom, RGB
   // sRGB-encoded when srgb) and the mip levels built from them; returns its index. Throws
   // std::runtime_error when the scene's texel storage would overflow.
@@ -91,6 +96,7 @@ class MeshSink {
   glm::dmat3 normalMatrix_{1.0};
   bool mirrored_ = false;  // the transform mirrors: Add swaps vertices 1 and 2
   bool instancesAllowed_ = true;
+  std::string variant_;
   std::map<int, int64_t> meshes_;  // PlaceInstance key -> SceneDesc::meshes index, -1: empty
   int skippedSingular_ = 0;
 };

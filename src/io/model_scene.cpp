@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "src/io/gltf_loader.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/image_io.h"
 #include "src/io/obj_loader.h"
 #include "src/materials/emission.h"
@@ -39,6 +40,17 @@ bool AnyEmitter(const SceneDesc& scene) {
   return false;
 }
 
+// What lights the model besides the default environment, for the summary line.
+std::string DefaultEnvironmentNote(size_t lightCount, bool emitters) {
+  std::string own;
+  if (lightCount > 0) own = std::to_string(lightCount) + (lightCount == 1 ? " light" : " lights");
+  if (emitters) own += std::string(own.empty() ? "" : " and ") + "emissive materials";
+  return "lit by the default environment, a uniform radiance of " +
+         FormatNumber(kDefaultEnvironmentRadiance) + " from every direction" +
+         (own.empty() ? "" : ", and by the file's " + own) +
+         " (--env FILE replaces the environment, --env none removes it)";
+}
+
 RenderSettings ModelRenderSettings(float aspect) {
   RenderSettings r;
   r.aspect = aspect > 0.0f ? aspect : kModelSceneAspect;
@@ -67,12 +79,30 @@ void AddGltfLights(const GltfSceneContents& contents, SceneDesc& scene) {
                                  contents.directionalLights.end());
 }
 
-GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink) {
+GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink,
+                                const GltfAnimationChoice& animation) {
   if (LowerExtension(path) == ".obj") {
+    if (!sink.Variant().empty())
+      throw GltfVariantError("no material variant \"" + sink.Variant() +
+                             "\": an OBJ file has no KHR_materials_variants");
     LoadObjMesh(path, sink);
     return {};
   }
-  return LoadGltfMesh(path, sink);
+  return LoadGltfMesh(path, sink, animation);
+}
+
+GltfAnimationChoice AnimationChoice(const LoadOptions& options, const JsonObject* o) {
+  GltfAnimationChoice choice;
+  if (o && o->Has("animation")) {
+    bool index = o->Field("animation").Raw().is_number();
+    choice.animation = index ? std::to_string(o->Integer("animation", 0, INT32_MAX))
+                             : o->String("animation");
+    if (choice.animation.empty()) o->Fail("animation", "give an index or a name");
+  }
+  if (o && o->Has("time")) choice.time = double(o->Number("time"));
+  if (!options.animation.empty()) choice.animation = options.animation;
+  if (options.time) choice.time = options.time;
+  return choice;
 }
 
 std::string GltfSceneSummary(const std::string& label, const GltfSceneContents& contents,
@@ -92,9 +122,12 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
   SceneDesc scene;
   scene.path = path;
   MeshSink sink(scene, glm::dmat4(1.0), -1, path);
+  sink.SetVariant(options.variant);
   GltfSceneContents contents;
   try {
-    contents = LoadModelFile(path, sink);
+    contents = LoadModelFile(path, sink, AnimationChoice(options, nullptr));
+  } catch (const GltfVariantError& e) {
+    throw SceneError(path, "--variant", e.what());
   } catch (const std::runtime_error& e) {
     throw SceneError(path, "", e.what());
   }
@@ -118,11 +151,11 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
                                              : "no perspective camera, framed automatically");
   }
   AddGltfLights(contents, scene);
-  if (contents.LightCount() == 0 && !AnyEmitter(scene) && !options.environmentGiven) {
+  // As in every glTF viewer, the environment lights the model whatever lights the file brings
+  // (those add to it); the command line's --env replaces or (--env none) removes it.
+  if (!options.environmentGiven) {
     scene.background = vec3(kDefaultEnvironmentRadiance);
-    notes.push_back("no light (no KHR_lights_punctual light, no emissive material), lit by the "
-                    "default environment: a uniform radiance of " +
-                    FormatNumber(kDefaultEnvironmentRadiance) + " from every direction");
+    notes.push_back(DefaultEnvironmentNote(contents.LightCount(), AnyEmitter(scene)));
   }
   std::string summary = GltfSceneSummary(path, contents, notes);
   if (!summary.empty()) scene.warnings.push_back(summary);
@@ -134,10 +167,12 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options) {
 }
 
 CameraDesc ParseCameraFromFile(const JsonObject& c, const std::string& baseDir,
-                               const std::string& selector) {
+                               const LoadOptions& options) {
   c.AllowOnly({"from_file", "name", "index", "transform", "fov_y", "aperture_radius",
-               "focus_distance"},
+               "focus_distance", "animation", "time"},
               "a camera from a file");
+  const std::string& selector = options.camera;
+  GltfAnimationChoice animation = AnimationChoice(options, &c);
   std::string file = c.String("from_file");
   if (LowerExtension(file) != ".gltf" && LowerExtension(file) != ".glb") {
     c.Fail("from_file", "\"" + file + "\" is not a glTF file (.gltf or .glb): only glTF has cameras");
@@ -153,7 +188,7 @@ CameraDesc ParseCameraFromFile(const JsonObject& c, const std::string& baseDir,
   }
   CameraDesc camera;
   try {
-    GltfSceneContents contents = ReadGltfSceneParts(resolved.string());
+    GltfSceneContents contents = ReadGltfSceneParts(resolved.string(), animation);
     const GltfCamera* chosen = SelectGltfCamera(contents, pick);
     if (!chosen) throw std::runtime_error("the file has no perspective camera");
     camera = chosen->desc;

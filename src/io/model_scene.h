@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "src/io/gltf_animation.h"
 #include "src/io/gltf_scene.h"
 #include "src/io/mesh_common.h"
 #include "src/io/scene_loader.h"
@@ -29,7 +30,12 @@ bool IsModelFile(const std::string& path);
 // Loads a model file's triangles (and materials, unless the sink overrides them) through the
 // sink; returns the glTF file's cameras, lights and ignored parts (empty for OBJ). Throws
 // std::runtime_error for an unreadable or malformed file.
-GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink);
+GltfSceneContents LoadModelFile(const std::string& path, MeshSink& sink,
+                                const GltfAnimationChoice& animation = {});
+
+// The pose options gives, else the JSON object's "animation" (an index or a name) and "time"
+// fields (o may be null: none).
+GltfAnimationChoice AnimationChoice(const LoadOptions& options, const JsonObject* o);
 
 // Appends the file's point, spot and directional lights to the scene's.
 void AddGltfLights(const GltfSceneContents& contents, SceneDesc& scene);
@@ -47,8 +53,9 @@ SceneDesc LoadModelScene(const std::string& path, const LoadOptions& options);
 
 // A JSON scene's camera taken from a model file: {"from_file": F, "name": N | "index": I,
 // "transform": T, "fov_y", "aperture_radius", "focus_distance"}. `selector` (the command
-// line's --camera) replaces name and index when not empty.
+// line's --camera) replaces name and index when not empty; "animation" and "time" pose it
+// (replaced by the command line's).
 CameraDesc ParseCameraFromFile(const JsonObject& camera, const std::string& baseDir,
-                               const std::string& selector);
+                               const LoadOptions& options);
 
 }  // namespace pt

@@ -13,7 +13,9 @@
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
 #include "src/io/gltf_loader.h"
+#include "src/io/gltf_variants.h"
 #include "src/io/image_io.h"
+#include "src/io/media_json.h"
 #include "src/io/model_scene.h"
 #include "src/io/scene_files.h"
 #include "src/io/scene_json.h"
@@ -44,6 +46,8 @@ struct LoadState {
   std::unordered_map<std::string, uint32_t> materials;
   std::string skippedByFile;  // "a.glb (2), b.obj (1)" for the one degenerate-triangle warning
   std::map<std::string, MeshEntry> meshTable;
+  const LoadOptions* options = nullptr;  // the command line's choices
+  std::string variant;  // --variant (LoadOptions::variant)
 };
 
 AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
@@ -153,14 +157,18 @@ void ParseMaterials(const JsonObject& root, LoadState& state) {
                        std::to_string(kMaxMaterials) + " are supported");
   for (const auto& item : all.Raw().items()) {
     JsonObject m(JsonValue(item.value(), materials.FieldPath(item.key()), state.file));
+    if (item.key() == kInterfaceMaterialName)
+      materials.Fail(item.key(), "\"interface\" is reserved: the invisible surface of a "
+                                 "medium's bounds (docs/scene-format.md)");
     state.materials[item.key()] = uint32_t(state.scene.materials.size());
     state.scene.materials.push_back(ParseMaterial(m));
     state.scene.materialNames.push_back(item.key());
   }
 }
 
-uint32_t MaterialRef(const JsonObject& o, const LoadState& state) {
+uint32_t MaterialRef(const JsonObject& o, LoadState& state) {
   std::string name = o.String("material");
+  if (name == kInterfaceMaterialName) return InterfaceMaterial(state.scene);
   auto it = state.materials.find(name);
   if (it == state.materials.end()) {
     std::string defined;
@@ -173,12 +181,25 @@ uint32_t MaterialRef(const JsonObject& o, const LoadState& state) {
 
 // ---- Objects --------------------------------------------------------------------------------
 
+// The object's medium interface ("interior", "exterior"; the "interface" material).
+uint32_t ObjectInterior(const JsonObject& o, LoadState& state) {
+  bool invisible = o.Has("material") && o.String("material") == kInterfaceMaterialName;
+  return ParseObjectInterior(o, state.scene, invisible);
+}
+
+// Objects that cannot bound a medium must not take the invisible "interface" material.
+void RefuseInterface(const JsonObject& o, const char* why) {
+  if (o.Has("material") && o.String("material") == kInterfaceMaterialName)
+    o.Fail("material", std::string("\"interface\" surfaces bound media, and ") + why);
+}
+
 glm::mat4 ObjectTransform(const JsonObject& o) {
   return o.Has("transform") ? ParseTransform(o.Object("transform")) : glm::mat4(1.0f);
 }
 
 void ParseSphere(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "center", "radius", "material", "transform"}, "a sphere");
+  o.AllowOnly({"type", "center", "radius", "material", "transform", "interior", "exterior"},
+              "a sphere");
   vec3 center = o.Vec3("center");
   float radius = o.Number("radius", Range::Positive());
   uint32_t material = MaterialRef(o, state);
@@ -197,10 +218,16 @@ void ParseSphere(const JsonObject& o, LoadState& state) {
   }
   state.scene.spheres.push_back(s);
   state.scene.sphereMaterials.push_back(material);
+  SetShapeInterfaces(o, ShapeType::kSphere, state.scene.spheres.size() - 1,
+                     state.scene.spheres.size(), ObjectInterior(o, state), state.scene);
 }
 
 void ParseQuad(const JsonObject& o, LoadState& state) {
+  if (o.Has("interior"))
+    o.Fail("interior", "a quad encloses no volume: bound a medium with a box, a sphere or a "
+                       "closed mesh");
   o.AllowOnly({"type", "origin", "u", "v", "material", "transform"}, "a quad");
+  RefuseInterface(o, "a quad encloses no volume");
   vec3 origin = o.Vec3("origin"), u = o.Vec3("u"), v = o.Vec3("v");
   uint32_t material = MaterialRef(o, state);
   glm::mat4 m = ObjectTransform(o);
@@ -214,7 +241,7 @@ void ParseQuad(const JsonObject& o, LoadState& state) {
 }
 
 void ParseBox(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "min", "max", "material", "transform"}, "a box");
+  o.AllowOnly({"type", "min", "max", "material", "transform", "interior", "exterior"}, "a box");
   vec3 lo = o.Vec3("min"), hi = o.Vec3("max");
   if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
     o.Fail("max", FormatVec3(hi) + " must exceed min " + FormatVec3(lo) + " on every axis");
@@ -224,6 +251,8 @@ void ParseBox(const JsonObject& o, LoadState& state) {
   AppendBoxQuads(lo, hi, ObjectTransform(o), state.scene.quads);
   state.scene.quadMaterials.resize(state.scene.quads.size(), material);
   if (state.scene.quads.size() - before != 6) o.FailHere("the transformed box is degenerate");
+  SetShapeInterfaces(o, ShapeType::kQuad, before, state.scene.quads.size(),
+                     ObjectInterior(o, state), state.scene);
 }
 
 // The mesh file o's "file" names, resolved against the scene's folder: a supported format and
@@ -251,8 +280,14 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
   size_t trianglesBefore = scene.triangles.size();
   int skippedBefore = scene.skippedDegenerateTriangles;
   GltfSceneContents contents;
+  bool own = o.Has("variant");
+  sink.SetVariant(own ? o.String("variant") : state.variant);
   try {
-    contents = LoadModelFile(resolved.string(), sink);
+    contents = LoadModelFile(resolved.string(), sink, AnimationChoice(*state.options, &o));
+  } catch (const GltfVariantError& e) {
+    std::string what = "\"" + resolved.string() + "\": " + e.what();
+    if (own) o.Fail("variant", what);
+    throw SceneError(state.file, "--variant", what);
   } catch (const std::runtime_error& e) {
     o.Fail("file", "\"" + resolved.string() + "\": " + e.what());
   }
@@ -268,11 +303,18 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
 }
 
 void ParseMesh(const JsonObject& o, LoadState& state) {
-  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file"}, "a mesh");
+  o.AllowOnly({"type", "file", "material", "transform", "lights_from_file", "animation", "time",
+               "variant", "interior", "exterior"},
+              "a mesh");
   int64_t material = o.Has("material") ? int64_t(MaterialRef(o, state)) : -1;
   bool lightsFromFile = o.BoolOr("lights_from_file", true);
+  uint32_t iface = ObjectInterior(o, state);
   MeshSink sink(state.scene, glm::dmat4(ObjectTransform(o)), material, o.String("file"));
+  if (iface) sink.DisallowInstances();  // the interface is kept per world-space triangle
+  size_t first = state.scene.triangles.size();
   LoadMeshFile(o, state, sink, lightsFromFile);
+  SetShapeInterfaces(o, ShapeType::kTriangle, first, state.scene.triangles.size(), iface,
+                     state.scene);
 }
 
 // ---- Instancing: the "meshes" table and "instance" objects ---------------------------------
@@ -285,7 +327,9 @@ void ParseMeshTable(const JsonObject& root, LoadState& state) {
   JsonObject meshes(all);
   for (const auto& item : all.Raw().items()) {
     JsonObject m(JsonValue(item.value(), meshes.FieldPath(item.key()), state.file));
-    m.AllowOnly({"file", "material", "transform"}, "a mesh of the mesh table");
+    m.AllowOnly({"file", "material", "transform", "animation", "time", "variant"},
+                "a mesh of the mesh table");
+    RefuseInterface(m, "instanced meshes cannot bound media (use a \"mesh\" object)");
     if (m.Has("material")) MaterialRef(m, state);
     if (m.Has("transform")) ParseTransform(m.Object("transform"));
     ResolveMeshFile(m, state);
@@ -321,6 +365,7 @@ uint32_t TableMesh(const JsonObject& o, LoadState& state) {
 
 void ParseInstance(const JsonObject& o, LoadState& state) {
   o.AllowOnly({"type", "mesh", "material", "transform"}, "an instance");
+  RefuseInterface(o, "instances cannot bound media (use a \"mesh\" object)");
   InstanceDesc instance;
   instance.mesh = TableMesh(o, state);
   instance.material = o.Has("material") ? int32_t(MaterialRef(o, state)) : -1;
@@ -353,9 +398,11 @@ void ParseObjects(const JsonObject& root, LoadState& state) {
       ParseMesh(o, state);
     } else if (type == "instance") {
       ParseInstance(o, state);
+    } else if (type == "volume") {
+      ParseVolumeObject(o, state.scene);
     } else {
       o.Fail("type", "unknown object type \"" + type +
-                         "\" (expected sphere, quad, box, mesh or instance)");
+                         "\" (expected sphere, quad, box, mesh, instance or volume)");
     }
   }
 }
@@ -422,15 +469,17 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   JsonObject root(JsonValue(json, "", pathForMessages));
   CheckFormat(root);  // first: a later format may have fields this one does not know
   root.AllowOnly({"format", "render", "camera", "background", "environment", "materials",
-                  "meshes", "objects", "lights"},
+                  "meshes", "objects", "lights", "media", "medium"},
                  "the scene");
   SceneDesc scene;
   scene.path = pathForMessages;
   LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}, {}};
+  state.options = &options;
+  state.variant = options.variant;
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {
-    scene.camera = ParseCameraFromFile(camera, state.baseDir, options.camera);
+    scene.camera = ParseCameraFromFile(camera, state.baseDir, options);
   } else if (!options.camera.empty()) {
     camera.FailHere("--camera picks a camera of a glTF file, and this camera is given in the "
                     "scene (take one from a file with \"camera\": {\"from_file\": ...})");
@@ -445,6 +494,7 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
     ParseEnvironment(root.Object("environment"), state.baseDir, scene);
   }
   ParseMaterials(root, state);
+  ParseSceneMedia(root, state.baseDir, scene);
   ParseMeshTable(root, state);
   ParseObjects(root, state);
   WarnUnplacedMeshes(state);

@@ -2,6 +2,7 @@
 // every shape in world space. Any problem throws SceneError naming the file and the field.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -26,6 +27,13 @@ struct LoadOptions {
   // The command line brings the environment (--env): a model scene without lights then gets
   // no default environment.
   bool environmentGiven = false;
+  // --animation and --time: the pose of every glTF file the scene loads (each replaces a JSON
+  // scene's "animation" and "time" fields); unset = the file's static pose.
+  std::string animation;
+  std::optional<double> time;
+  // --variant: the KHR_materials_variants variant of the model (of every glTF mesh of a JSON
+  // scene that names none in its "variant" field); empty = the files' own materials.
+  std::string variant{};
 };
 
 // Reads and parses the file; relative mesh paths resolve against its folder. A .gltf, .glb or

@@ -1,12 +1,14 @@
-// Next-event estimation: choosing a light by power, sampling a point or direction on it, and
-// the matching solid-angle pdfs for multiple importance sampling when a BSDF-sampled ray hits
-// an emitter. Every pdf here includes the probability of choosing the light.
+// Next-event estimation: choosing a light (uniformly, by power, or through the light BVH:
+// SceneView::lightTree.sampler), sampling a point or direction on it, and the matching
+// solid-angle pdfs for multiple importance sampling when a BSDF-sampled ray hits an emitter.
+// Every pdf here includes the probability of choosing the light.
 //
 // kMap = false compiles the environment map out (stage variants of scenes without one).
 #pragma once
 
 #include "src/core/sampling.h"
 #include "src/lights/env_map.h"
+#include "src/lights/light_bvh.h"
 #include "src/materials/emission.h"
 #include "src/geometry/instance.h"
 #include "src/scene/scene_view.h"
@@ -60,6 +62,55 @@ PT_HDI int SampleLightIndex(const SceneView& s, float u) {
     else hi = mid - 1;
   }
   return lo;
+}
+
+// Probability of choosing light `index` where the choice does not depend on the point: every
+// light under the uniform sampler, lights at infinity under the others (the BVH sampler
+// chooses them by power beside the tree, as the power sampler does).
+PT_HDI float InfiniteLightPmf(const SceneView& s, uint32_t index) {
+  if (s.lightTree.sampler == uint32_t(LightSampler::kUniform)) return 1.0f / float(s.lightCount);
+  return s.lightPmf[index];
+}
+
+// The BVH sampler's probability of choosing the tree at all: the power share of the finite
+// lights (the power table's cdf up to them), so the lights at infinity keep their share.
+PT_HDI float LightTreeShare(const SceneView& s) { return s.lightCdf[s.lightTree.boundedCount]; }
+
+// Chooses a light for reference r with uChoice (uRefresh: the BVH walk's second number, or
+// negative); -1 when there is none. *pmf: the probability, LightChoicePmf's value.
+PT_HDI int ChooseLight(const SceneView& s, const LightRef& r, float uChoice, float uRefresh,
+                       float* pmf) {
+  if (s.lightCount == 0) return -1;
+  switch (LightSampler(s.lightTree.sampler)) {
+    case LightSampler::kUniform: {
+      int index = int(fminf(uChoice * float(s.lightCount), float(s.lightCount - 1)));
+      *pmf = 1.0f / float(s.lightCount);
+      return index;
+    }
+    case LightSampler::kBvh: {
+      float share = LightTreeShare(s);
+      if (uChoice < share) {
+        int index;
+        float p;
+        if (!SampleLightTree(s, r, fminf(uChoice / share, 0x1.fffffep-1f), uRefresh, &index, &p))
+          return -1;
+        *pmf = share * p;
+        return index;
+      }
+      break;  // a light at infinity, by the power table (its cdf puts it past the tree's share)
+    }
+    default: break;
+  }
+  int index = SampleLightIndex(s, uChoice);
+  *pmf = s.lightPmf[index];
+  return index;
+}
+
+// The probability that ChooseLight at r returns light `index`.
+PT_HDI float LightChoicePmf(const SceneView& s, const LightRef& r, uint32_t index) {
+  if (s.lightTree.sampler == uint32_t(LightSampler::kBvh) && index < s.lightTree.boundedCount)
+    return LightTreeShare(s) * LightTreePmf(s, r, index);
+  return InfiniteLightPmf(s, index);
 }
 
 // ---- Spheres: the cone of directions a sphere subtends from an outside point ----
@@ -216,16 +267,16 @@ PT_HDI void SetInfiniteSample(const SceneView& s, vec3 refP, vec3 wi, LightLiSam
 
 // ---- Entry points ----
 
-// Chooses a light with uLight (by power) and a point or direction on it with u.
-// Returns false when the sample carries no light (back face of a one-sided emitter, degenerate
-// geometry, no lights); the caller then skips the shadow ray.
+// Chooses a light for r with uLight (and uRefresh: ChooseLight) and a point or direction on
+// it with u. Returns false when the sample carries no light (back face of a one-sided
+// emitter, degenerate geometry, no lights); the caller then skips the shadow ray.
 template <bool kMap = true>
-PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
-                          LightLiSample* out) {
-  int index = SampleLightIndex(s, uLight);
-  if (index < 0) return false;
-  float pmf = s.lightPmf[index];
-  if (!(pmf > 0.0f)) return false;
+PT_HDI bool SampleLightLi(const SceneView& s, const LightRef& r, float uLight, float uRefresh,
+                          vec2 u, LightLiSample* out) {
+  const vec3 refP = r.p;
+  float pmf = 0.0f;
+  int index = ChooseLight(s, r, uLight, uRefresh, &pmf);
+  if (index < 0 || !(pmf > 0.0f)) return false;
   const Light& light = s.lights[index];
   out->lightIndex = index;
   out->isDelta = false;
@@ -292,15 +343,28 @@ PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
   return false;
 }
 
-// Solid-angle pdf, with the choice probability, that SampleLightLi from refP produces the
-// point pLight (unit geometric normal nLight, the shape's front) of light lightIndex. For MIS
-// when a BSDF-sampled ray hits an emitter. 0 for delta lights (they cannot be hit). Lights at
+// The same from a point with no receiver normal (the BVH's importance then ignores the
+// orientation there; LightPdf must be given the same reference).
+template <bool kMap = true>
+PT_HDI bool SampleLightLi(const SceneView& s, vec3 refP, float uLight, vec2 u,
+                          LightLiSample* out) {
+  LightRef r;
+  r.p = refP;
+  return SampleLightLi<kMap>(s, r, uLight, -1.0f, u, out);
+}
+
+// Solid-angle pdf, with the choice probability, that SampleLightLi from r produces the point
+// pLight (unit geometric normal nLight, the shape's front) of light lightIndex. For MIS when a
+// BSDF-sampled ray hits an emitter. 0 for delta lights (they cannot be hit). Lights at
 // infinity take the direction towards pLight.
 template <bool kMap = true>
-PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight, vec3 nLight) {
+PT_HDI float LightPdf(const SceneView& s, int lightIndex, const LightRef& r, vec3 pLight,
+                      vec3 nLight) {
   if (lightIndex < 0 || uint32_t(lightIndex) >= s.lightCount) return 0.0f;
+  const vec3 refP = r.p;
   const Light& light = s.lights[lightIndex];
-  float pmf = s.lightPmf[lightIndex];
+  float pmf = LightChoicePmf(s, r, uint32_t(lightIndex));
+  if (!(pmf > 0.0f)) return 0.0f;
   switch (light.type) {
     case LightType::kArea: return pmf * AreaLightPdf(s, light, refP, pLight, nLight);
     case LightType::kPoint:
@@ -317,11 +381,18 @@ PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight
   return 0.0f;
 }
 
+template <bool kMap = true>
+PT_HDI float LightPdf(const SceneView& s, int lightIndex, vec3 refP, vec3 pLight, vec3 nLight) {
+  LightRef r;
+  r.p = refP;
+  return LightPdf<kMap>(s, lightIndex, r, pLight, nLight);
+}
+
 // Pdf of an escaped ray's direction under the background light's sampling (choice included);
 // 0 when the background is black (it is then not a light).
 PT_HDI float BackgroundLightPdf(const SceneView& s) {
   if (s.backgroundLight < 0) return 0.0f;
-  return s.lightPmf[s.backgroundLight] * UniformSpherePdf();
+  return InfiniteLightPmf(s, uint32_t(s.backgroundLight)) * UniformSpherePdf();
 }
 
 // Radiance of the environment map along an escaped direction w, and the pdf (choice
@@ -331,7 +402,7 @@ PT_HDI vec3 EnvMapLightLe(const SceneView& s, vec3 w, float* lightPdf) {
   *lightPdf = 0.0f;
   if constexpr (kMap) {
     if (s.env.light < 0) return vec3(0.0f);
-    *lightPdf = s.lightPmf[s.env.light] * EnvMapPdf(s, w);
+    *lightPdf = InfiniteLightPmf(s, uint32_t(s.env.light)) * EnvMapPdf(s, w);
     return EnvMapLe(s, w);
   }
   return vec3(0.0f);

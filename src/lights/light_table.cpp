@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "src/lights/emission_power.h"
 #include "src/lights/environment.h"
+#include "src/lights/light_bvh_build.h"
 #include "src/lights/light_sample.h"
 #include "src/scene/instances.h"
 
@@ -11,28 +13,16 @@ namespace pt {
 
 namespace {
 
-// Mean luminance of a glTF emissive texture over a primitive (1 without one), which scales
-// the light's power and so the probability of choosing it: 16 stratified points, each read at
-// the mip level whose footprint is a sixteenth of the primitive, so the mean covers its area.
-// Next-event estimation reads the texture at the sampled point; this estimate only shapes the
-// choice (a primitive estimated dark is no light, and BSDF sampling alone finds it).
-double EmissionScale(const SceneView& view, const PrimRef& prim, double area) {
+// How much a glTF emissive texture scales a primitive's power (1 without one): the luminance
+// of the material's emission times the texture's mean over the primitive (emission_power.h),
+// over the emission's own. A primitive whose texels are black gets 0 and is no light (BSDF
+// sampling alone finds whatever filtering bleeds onto its edges).
+double EmissionScale(const SceneView& view, const PrimRef& prim) {
   const Material& m = view.materials[prim.material];
   if (m.type != MaterialType::kGltfPbr || m.emissiveTexture < 0) return 1.0;
-  constexpr int kGrid = 4;
-  float width = float(std::sqrt(area / (kGrid * kGrid)));
-  double sum = 0.0;
-  for (int i = 0; i < kGrid * kGrid; ++i) {
-    vec2 u((float(i % kGrid) + 0.5f) / kGrid, (float(i / kGrid) + 0.5f) / kGrid);
-    vec2 param = u;  // quads: (s, t)
-    if (prim.Type() == ShapeType::kTriangle) {
-      vec2 b = SampleUniformTriangle(u);
-      param = vec2(b.y, 1.0f - b.x - b.y);
-    }
-    TexCoords tc = TexCoordsAt(view, prim, param, width);
-    sum += double(Luminance(vec3(SampleTextureRef(view, m.emissiveTexture, tc))));
-  }
-  return sum / (kGrid * kGrid);
+  double plain = double(Luminance(m.radiance));
+  if (!(plain > 0.0)) return 0.0;
+  return double(Luminance(m.radiance * MeanEmissiveTexture(view, prim))) / plain;
 }
 
 double PrimArea(const SceneDesc& desc, const PrimRef& prim) {
@@ -142,7 +132,7 @@ void BuildLightTable(Scene& scene) {
     prim.light = -1;
     const Material& m = desc.materials[prim.material];
     if (!MaterialEmits(m)) continue;
-    primScale[i] = EmissionScale(view, prim, PrimArea(desc, prim));
+    primScale[i] = EmissionScale(view, prim);
     if (primScale[i] > 0.0) emitters.push_back(uint32_t(i));  // dark ones: BSDF sampling only
   }
   std::stable_sort(emitters.begin(), emitters.end(), [&](uint32_t a, uint32_t b) {
@@ -166,14 +156,18 @@ void BuildLightTable(Scene& scene) {
     scene.lights.push_back(light);
     emissionScale.push_back(primScale[emitters[k]]);
   }
+  // Black point and spot lights are left out (as black directional lights): no sampler may
+  // choose a light of no power.
   for (const PointLightDesc& point : desc.pointLights) {
+    if (IsBlack(point.intensity)) continue;
     Light light;
     light.type = LightType::kPoint;
     light.position = point.position;
     light.intensity = point.intensity;
     scene.lights.push_back(light);
   }
-  for (const SpotLightDesc& spot : desc.spotLights) scene.lights.push_back(MakeSpotLight(spot));
+  for (const SpotLightDesc& spot : desc.spotLights)
+    if (!IsBlack(spot.intensity)) scene.lights.push_back(MakeSpotLight(spot));
   scene.distantLights.clear();
   for (const DirectionalLightDesc& d : desc.directionalLights) {
     Light light = MakeDirectionalLight(d, desc.environment);
@@ -213,6 +207,7 @@ void UpdateLightDistribution(Scene& scene) {
     if (light >= 0) UpdateLightPowers(scene, size_t(light), size_t(light) + 1);
   }
   FillDistribution(scene.lightPower, scene);
+  BuildLightBvh(scene);  // finite lights moved with their instances, or their power changed
 }
 
 }  // namespace pt

@@ -27,7 +27,8 @@ void BuildLightTable(Scene& scene);
 void UpdateLightPowers(Scene& scene, size_t first, size_t end);
 
 // The choice probabilities again from scene.lightPower, the background's recomputed (the
-// bounding sphere may have changed). O(lights), no power recomputed but the background's.
+// bounding sphere may have changed), and the light BVH rebuilt (BuildLightBvh: O(n log n) in
+// the finite lights). No power recomputed but the background's.
 void UpdateLightDistribution(Scene& scene);
 
 }  // namespace pt

@@ -18,11 +18,16 @@
 
 namespace pt {
 
-// The fraction of a pixel's width that a texture lookup prefilters over: half a pixel, so
-// textures stay sharp (the pixel's own box filter integrates the rest) while a minified
-// texture averages its texels instead of aliasing into noise. A constant, so the converged
-// image does not depend on the sample count.
-constexpr float kTextureFootprintScale = 0.5f;
+// The fraction of a pixel's width that a texture lookup prefilters over, for a render that
+// takes `spp` samples in each pixel: 1 / sqrt(spp), at least 1/8 (pbrt-v4's scaling of ray
+// differentials). The samples of a pixel spread over it on a grid about 1 / sqrt(spp) wide, so
+// each needs to average only its share: a 1-spp preview filters over the whole pixel (no
+// aliasing), a converged render (64 spp and more) keeps detail down to an eighth of a pixel.
+// It is a render parameter (the camera's textureFootprint, set once on the host from the
+// render's target spp), so both backends, every chunk and every resumed run filter alike.
+PT_HDI float TextureFootprintScale(int spp) {
+  return spp <= 1 ? 1.0f : fmaxf(0.125f, 1.0f / sqrtf(float(spp)));
+}
 
 // World-space filter width at p (geometric normal ng) for the camera's pixel spread.
 PT_HDI float FootprintWidth(const Camera& cam, vec3 p, vec3 ng) {
@@ -30,7 +35,7 @@ PT_HDI float FootprintWidth(const Camera& cam, vec3 p, vec3 ng) {
   float dist = glm::length(d);
   if (!(dist > 0.0f)) return 0.0f;
   float cosView = fabsf(glm::dot(ng, d)) / dist;
-  return kTextureFootprintScale * cam.pixelSpread * dist / sqrtf(fmaxf(cosView, 1e-2f));
+  return cam.textureFootprint * cam.pixelSpread * dist / sqrtf(fmaxf(cosView, 1e-2f));
 }
 
 namespace detail {

@@ -11,6 +11,7 @@
 #include "src/geometry/lbvh_build.h"
 #include "src/geometry/shapes.h"
 #include "src/lights/light_table.h"
+#include "src/materials/surface_attributes.h"
 #include "src/scene/auto_camera.h"
 #include "src/scene/instances.h"
 #include "src/scene/scene.h"
@@ -40,6 +41,10 @@ void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vec
 }
 
 Camera MakeCamera(const CameraDesc& desc, int width, int height) {
+  return MakeCamera(desc, width, height, 1);
+}
+
+Camera MakeCamera(const CameraDesc& desc, int width, int height, int spp) {
   Camera c;
   c.position = desc.position;
   c.forward = glm::normalize(desc.lookAt - desc.position);
@@ -48,6 +53,7 @@ Camera MakeCamera(const CameraDesc& desc, int width, int height) {
   c.tanHalfFovY = std::tan(glm::radians(desc.fovY) * 0.5f);
   c.aspect = float(width) / float(height);
   c.pixelSpread = 2.0f * c.tanHalfFovY / float(height);
+  c.textureFootprint = TextureFootprintScale(spp);
   c.apertureRadius = desc.apertureRadius;
   c.focusDistance = desc.focusDistance > 0.0f ? desc.focusDistance
                                               : glm::length(desc.lookAt - desc.position);
@@ -241,7 +247,7 @@ Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options) {
     float aspect = float(d.render.width) / float(std::max(1, d.render.height));
     scene.desc.camera = FrameBounds(world.lo, world.hi, aspect, d.camera.fovY);
   }
-  scene.camera = MakeCamera(d.camera, d.render.width, d.render.height);
+  scene.camera = MakeCamera(d.camera, d.render.width, d.render.height, d.render.spp);
   return scene;
 }
 
@@ -262,6 +268,7 @@ SceneView HostSceneView(const Scene& scene) {
   v.backgroundLight = scene.backgroundLight;
   v.distantLightCount = uint32_t(scene.distantLights.size());
   v.env = scene.env;
+  v.lightTree = scene.lightTree;
   v.background = d.background * d.environment.strength;
   v.sceneCenter = scene.sceneCenter;
   v.sceneRadius = scene.sceneRadius;

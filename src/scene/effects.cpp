@@ -3,6 +3,26 @@
 #include "src/materials/bsdf.h"
 
 namespace pt {
+namespace {
+
+// The layered variant's effects of one used material: its extensions, unlit, compensation.
+uint32_t LayeredEffects(const SceneDesc& d, const Material& m) {
+  uint32_t e = 0;
+  if (m.type == MaterialType::kGltfPbr && (m.flags & kMaterialUnlit)) e |= kEffectUnlit;
+  bool metal = m.type == MaterialType::kConductor ||
+               (m.type == MaterialType::kGltfPbr && m.metallic > 0.0f);
+  if ((m.flags & kMaterialEnergyCompensation) && metal) e |= kEffectEnergyCompensation;
+  if (m.type != MaterialType::kGltfPbr || m.ext < 0 || size_t(m.ext) >= d.materialExtensions.size())
+    return e;
+  const uint32_t kBitEffect[] = {kEffectSpecular,    kEffectClearcoat, kEffectSheen,
+                                 kEffectIridescence, kEffectAnisotropy, kEffectDiffuseTransmission};
+  uint32_t mask = d.materialExtensions[size_t(m.ext)].mask;
+  for (int bit = 0; bit < 6; ++bit)
+    if (mask & (1u << bit)) e |= kBitEffect[bit];
+  return e;
+}
+
+}  // namespace
 
 uint32_t AnalyzeEffects(const Scene& scene) {
   const SceneDesc& d = scene.desc;
@@ -33,6 +53,7 @@ uint32_t AnalyzeEffects(const Scene& scene) {
     if (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) e |= kEffectAlpha;
     if (m.flags & kMaterialCullBack) e |= kEffectBackfaceCulling;
     if (m.type == MaterialType::kGltfPbr && m.transmission > 0.0f) e |= kEffectTransmission;
+    e |= LayeredEffects(d, m);
   }
   for (const Light& l : scene.lights) {
     if (l.type == LightType::kArea) e |= kEffectAreaLights;
@@ -47,6 +68,7 @@ uint32_t AnalyzeEffects(const Scene& scene) {
   if (!d.pointLights.empty()) e |= kEffectPointLights;
   if (!d.spotLights.empty()) e |= kEffectSpotLights;
   if (d.camera.apertureRadius > 0.0f) e |= kEffectDepthOfField;
+  if (d.media.Active()) e |= kEffectMedia;
   return e;
 }
 
@@ -58,7 +80,10 @@ std::vector<std::string> EffectNames(uint32_t effects) {
                                  "directional_lights", "environment_map",
                                  "gltf_pbr",     "normal_maps",     "alpha",
                                  "transmission", "emissive_textures", "backface_culling",
-                                 "spot_lights"};
+                                 "spot_lights",  "specular",        "clearcoat",
+                                 "sheen",        "iridescence",     "anisotropy",
+                                 "diffuse_transmission", "unlit",   "energy_compensation",
+                                 "media"};
   std::vector<std::string> names;
   for (uint32_t bit = 0; bit < sizeof(kNames) / sizeof(kNames[0]); ++bit)
     if (effects & (1u << bit)) names.push_back(kNames[bit]);
@@ -66,6 +91,7 @@ std::vector<std::string> EffectNames(uint32_t effects) {
 }
 
 FeatureClass ChooseFeatureClass(uint32_t effects) {
+  if (effects & kLayeredEffects) return FeatureClass::kLayered;
   const uint32_t kDiffuseOnly = kEffectDiffuse | kEffectEmissive;
   // The glTF material, normal maps and emissive textures run only in the general variant;
   // alpha and culling are the intersector's (no variant), transmission implies glTF.
@@ -79,10 +105,15 @@ FeatureClass ChooseFeatureClass(uint32_t effects) {
   return FeatureClass::kGeneral;
 }
 
+FeatureClass UnspecializedFeatureClass(uint32_t effects) {
+  return (effects & kLayeredEffects) ? FeatureClass::kLayered : FeatureClass::kGeneral;
+}
+
 const char* FeatureClassName(FeatureClass c) {
   switch (c) {
     case FeatureClass::kDiffuse: return "diffuse";
     case FeatureClass::kSmooth: return "smooth";
+    case FeatureClass::kLayered: return "layered";
     default: return "general";
   }
 }

@@ -32,7 +32,24 @@ enum Effect : uint32_t {
   kEffectEmissiveTextures = 1u << 18,
   kEffectBackfaceCulling = 1u << 19,    // single-sided glTF materials (the intersector's)
   kEffectSpotLights = 1u << 20,
+  // The glTF extension lobes (src/materials/gltf_layered.h) and energy compensation: each
+  // makes the scene run the layered variant.
+  kEffectSpecular = 1u << 21,
+  kEffectClearcoat = 1u << 22,
+  kEffectSheen = 1u << 23,
+  kEffectIridescence = 1u << 24,
+  kEffectAnisotropy = 1u << 25,
+  kEffectDiffuseTransmission = 1u << 26,
+  kEffectUnlit = 1u << 27,
+  kEffectEnergyCompensation = 1u << 28,
+  kEffectMedia = 1u << 29,              // participating media: the media stages run (src/media/)
 };
+
+// The effects only the layered variant runs.
+constexpr uint32_t kLayeredEffects = kEffectSpecular | kEffectClearcoat | kEffectSheen |
+                                     kEffectIridescence | kEffectAnisotropy |
+                                     kEffectDiffuseTransmission | kEffectUnlit |
+                                     kEffectEnergyCompensation;
 
 // Effects of the materials some primitive uses, the lights and the camera.
 uint32_t AnalyzeEffects(const Scene& scene);
@@ -45,9 +62,16 @@ enum class FeatureClass : uint32_t {
   kDiffuse = 0,  // Lambertian and emitters only: no Fresnel, microfacets, media or textures
   kSmooth = 1,   // adds smooth mirrors and glass (Fresnel, refraction, absorption)
   kGeneral = 2,  // everything: rough lobes, plastic, glTF materials, textures, normal maps
+  kLayered = 3,  // the general variant plus the glTF extension lobes and energy compensation
 };
 
+// At least the general class (the class holding every effect but the layered ones).
+constexpr bool IsGeneralClass(FeatureClass c) { return c == FeatureClass::kGeneral || c == FeatureClass::kLayered; }
+
 FeatureClass ChooseFeatureClass(uint32_t effects);
+// The class that runs without --specialize: the general one, or the layered one where the
+// scene needs it.
+FeatureClass UnspecializedFeatureClass(uint32_t effects);
 const char* FeatureClassName(FeatureClass c);
 
 }  // namespace pt

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "src/geometry/aabb.h"
+#include "src/media/media_desc.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -131,6 +132,7 @@ struct SceneDesc {
 
   std::vector<Material> materials;
   std::vector<std::string> materialNames;  // same order as materials
+  std::vector<GltfMaterialExtension> materialExtensions;  // Material::ext indexes these
 
   std::vector<Triangle> triangles;
   std::vector<TriangleNormals> triangleNormals;  // same length as triangles
@@ -151,6 +153,7 @@ struct SceneDesc {
   std::vector<Texture> textures;
   std::vector<TextureRef> textureRefs;  // Material texture slots index these
   std::vector<uint32_t> texels;  // RGBA8 pyramids of every texture, back to back
+  MediaDesc media;  // participating media (src/media/): empty in a scene without them
 
   std::vector<std::string> warnings;  // printed by the app (glTF fallbacks and the like)
   int skippedDegenerateTriangles = 0;
@@ -205,6 +208,10 @@ struct Scene {
   std::vector<float> envRowCdf, envColumnCdf;  // the map's sampling distribution
   EnvironmentView env;
   std::vector<double> lightPower;  // host only: each light's power, what lightPmf follows
+  std::vector<LightBvhNode> lightNodes;  // the light BVH (src/lights/light_bvh_build.h)
+  std::vector<uint64_t> lightTrails;     // per finite light: its path from the root, or 0
+  LightTreeView lightTree;
+  double lightBvhBuildMs = 0.0;
   int32_t backgroundLight = -1;
   vec3 sceneCenter = vec3(0.0f);
   float sceneRadius = 1.0f;
@@ -250,7 +257,10 @@ struct Scene {
 // Builds the BVH and light table. Throws std::runtime_error on a scene it cannot render.
 Scene BuildScene(SceneDesc desc, const BvhBuildOptions& options = {});
 
-// Resolves the camera basis (validated by the loader: up not parallel to forward).
+// Resolves the camera basis (validated by the loader: up not parallel to forward), with the
+// texture footprint of a render of `spp` samples per pixel (TextureFootprintScale); the
+// three-argument form filters as for one sample.
+Camera MakeCamera(const CameraDesc& desc, int width, int height, int spp);
 Camera MakeCamera(const CameraDesc& desc, int width, int height);
 
 // A view over host memory (the CPU backend and tests use it directly).

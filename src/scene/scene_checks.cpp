@@ -1,6 +1,7 @@
 #include "src/scene/scene_checks.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace pt {
 namespace {
@@ -136,7 +137,72 @@ bool EnvironmentSeen(const Scene& scene) {
   });
 }
 
+// Lights other than the environment (a constant background or a map) that emit.
+size_t OwnLightCount(const Scene& scene) {
+  return size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.type != LightType::kBackground && l.type != LightType::kEnvironmentMap && Emits(l);
+  }));
+}
+
+bool EnvironmentLights(const Scene& scene) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return (l.type == LightType::kBackground || l.type == LightType::kEnvironmentMap) && Emits(l);
+  });
+}
+
+std::string BlackShareText(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100.0 * fraction);
+  return text;
+}
+
+std::string BrightestText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+// Why a finished image came out black, from what lights the scene.
+std::string BlackImageCause(const Scene& scene, float brightest,
+                            const std::string& environmentRemovedBy) {
+  std::string removed =
+      environmentRemovedBy.empty() ? "" : " (" + environmentRemovedBy + " removed the environment)";
+  if (!HasLight(scene)) return "nothing lights the scene" + removed;
+  if (brightest > 0.0f && brightest < kBlackPixelRadiance * 4.0f) {  // some light, too little
+    return "the light that reaches the image is too weak for the 8-bit output (brightest "
+           "pixel " + BrightestText(brightest) + "): the lights are weak for the scene's "
+           "scale (point and spot lights fall off with the distance squared; glTF intensities "
+           "are read as W/sr and W/m^2), or the exposure is low; scale the lights or the "
+           "environment (--env-strength), or read the HDR output";
+  }
+  size_t own = OwnLightCount(scene);
+  if (!EnvironmentLights(scene)) {
+    return "no environment" + removed + ": only the scene's " + std::to_string(own) +
+           (own == 1 ? " light lights" : " lights light") +
+           " it, and a light behind the model, inside it, or facing away from the camera "
+           "leaves the side the camera sees dark";
+  }
+  return "the environment and " + std::to_string(own) + " other light(s) light the scene, yet "
+         "little of the view is lit: the camera may be inside an object, or the model may fill "
+         "little of the frame against a dark backdrop";
+}
+
 }  // namespace
+
+std::string BlackImageWarning(const Scene& scene, const std::vector<float>& rgb,
+                              const std::string& environmentRemovedBy) {
+  size_t pixels = rgb.size() / 3, black = 0;
+  float brightest = 0.0f;
+  for (size_t i = 0; i < pixels; ++i) {
+    vec3 c(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+    if (MaxComponent(c) < kBlackPixelRadiance) ++black;
+    if (Luminance(c) > brightest) brightest = Luminance(c);  // NaN pixels are skipped
+  }
+  if (pixels == 0 || double(black) < kBlackImageFraction * double(pixels)) return "";
+  return "the image is nearly black: " + BlackShareText(double(black) / double(pixels)) +
+         " of its pixels are black in 8-bit sRGB; likely cause: " +
+         BlackImageCause(scene, brightest, environmentRemovedBy);
+}
 
 std::vector<std::string> DarkSceneWarnings(const Scene& scene) {
   if (!HasLight(scene)) {

@@ -82,6 +82,10 @@ enum MaterialFlag : uint32_t {
   kMaterialAlphaBlend = 1u << 1,  // alphaMode BLEND: a hit is kept with probability alpha
   kMaterialCullBack = 1u << 2,    // doubleSided false on an opaque material: back faces culled
   kMaterialThinWalled = 1u << 3,  // transmission without a volume: light passes the shell
+  kMaterialUnlit = 1u << 4,       // KHR_materials_unlit: shows its base colour, scatters nothing
+  // --energy-compensation on: rough metal lobes (glTF metal, conductor) gain the multiple
+  // scattering single-scattering GGX loses (src/materials/energy_compensation.h).
+  kMaterialEnergyCompensation = 1u << 5,
 };
 
 struct Material {
@@ -104,6 +108,7 @@ struct Material {
   int32_t normalTexture = -1;
   int32_t emissiveTexture = -1;
   int32_t transmissionTexture = -1;       // R multiplies the transmission factor
+  int32_t ext = -1;  // glTF extensions (SceneView::materialExts), -1: none
 };
 
 // The type of m, or kType where a caller knows it at compile time (a shade kernel of one
@@ -255,6 +260,7 @@ struct Camera {
   float tanHalfFovY;
   float aspect;             // width / height of the whole image
   float pixelSpread;        // 2 tanHalfFovY / height: a pixel's angular width at the centre
+  float textureFootprint;   // fraction of a pixel textures filter over (TextureFootprintScale)
   float apertureRadius;
   float focusDistance;      // to the plane perpendicular to forward
 };

@@ -2,7 +2,9 @@
 // (host memory on the CPU backend, device memory on the GPU), captured by value in kernels.
 #pragma once
 
+#include "src/lights/light_bvh_types.h"
 #include "src/scene/instance_types.h"
+#include "src/scene/material_extension.h"
 #include "src/scene/scene_types.h"
 
 namespace pt {
@@ -32,6 +34,7 @@ namespace pt {
   X(WideBvhNode, tlasWideNodes, s.tlasWideNodes) /* top level, wide layout */              \
   /* Appearance and light. */                                                               \
   X(Material, materials, s.desc.materials)                                                  \
+  X(GltfMaterialExtension, materialExts, s.desc.materialExtensions) /* Material::ext */      \
   X(Texture, textures, s.desc.textures)                                                     \
   X(TextureRef, textureRefs, s.desc.textureRefs) /* what materials' texture slots index */  \
   X(uint32_t, texels, s.desc.texels) /* RGBA8 pyramids of every texture, back to back */    \
@@ -39,6 +42,8 @@ namespace pt {
   X(float, lightPmf, s.lightPmf) /* probability of choosing each light */                   \
   X(float, lightCdf, s.lightCdf) /* lightCount + 1 entries, [0] = 0, last = 1 */            \
   X(uint32_t, distantLights, s.distantLights) /* directional lights escaped rays can hit */ \
+  X(LightBvhNode, lightNodes, s.lightNodes)   /* the light BVH (src/lights/light_bvh.h) */  \
+  X(uint64_t, lightTrails, s.lightTrails)     /* per finite light: its path in the tree */  \
   /* The environment map: texels (rows top to bottom), then its sampling distribution. */   \
   X(vec3, envTexels, s.desc.environment.texels)                                             \
   X(float, envRowCdf, s.envRowCdf) /* height + 1 entries over rows */                       \
@@ -70,6 +75,7 @@ struct SceneView {
   float sceneRadius = 1.0f;
 
   EnvironmentView env;
+  LightTreeView lightTree;  // the light sampler and the light BVH's grid
   Camera camera;
 };
 

@@ -235,7 +235,7 @@ bool LiveRender::ApplyEdits() {
     ApplySceneEdits(*p);
     if (p->options || p->maxDepth) session_->SetOptions(options_);
     if (p->camera) {
-      camera_ = MakeCamera(*p->camera, width_, height_);
+      camera_ = MakeCamera(*p->camera, width_, height_, scene_.desc.render.spp);
       scene_.desc.camera = *p->camera;
       session_->SetCamera(camera_);
     }

@@ -2,6 +2,7 @@
 // the page builds its controls from.
 #include <cmath>
 
+#include "src/lights/light_bvh_build.h"
 #include "src/server/live_render.h"
 
 namespace pt {
@@ -84,6 +85,12 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else if (key == "specialize") {
         if (!value.is_boolean()) throw EditError(400, "specialize must be true or false");
         o.specialize = value.get<bool>();
+      } else if (key == "light_sampler") {
+        o.lightSampler = Choice<LightSampler>(value, "light_sampler",
+                                              {{"auto", LightSampler::kAuto},
+                                               {"bvh", LightSampler::kBvh},
+                                               {"power", LightSampler::kPower},
+                                               {"uniform", LightSampler::kUniform}});
       } else if (key == "max_depth") {
         maxDepth = Integer(value, "max_depth");
       } else if (key == "spp") {
@@ -91,7 +98,7 @@ uint64_t LiveRender::EditOptions(const Json& fields) {
       } else {
         throw EditError(400, "unknown option \"" + key +
                                  "\" (expected compact, sort, integrator, specialize, "
-                                 "max_depth or spp)");
+                                 "light_sampler, max_depth or spp)");
       }
     }
     // The loader's limits, checked before anything changes.
@@ -127,6 +134,7 @@ std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_
   j["compact_used"] = now.compactUsed;
   j["sort_used"] = now.sortUsed;
   j["specialization"] = now.specialization;
+  j["light_sampler"] = now.lightSampler;
   j["rebuilds"] = Json{{"scene", sceneRebuilds_},
                        {"top_level", topLevelRebuilds_},
                        {"last_ms", lastRebuildMs_}};
@@ -144,7 +152,8 @@ std::string LiveRender::DescribeJson() const {
   j["options"] = Json{{"compact", ToggleName(requestedOptions_.compact)},
                       {"sort", SortName(requestedOptions_.sort)},
                       {"integrator", IntegratorName(requestedOptions_.integrator)},
-                      {"specialize", requestedOptions_.specialize}};
+                      {"specialize", requestedOptions_.specialize},
+                      {"light_sampler", LightSamplerName(requestedOptions_.lightSampler)}};
   Json objects = Json::array();
   for (size_t i = 0; i < document_.ObjectCount(); ++i) {
     const Json& o = document_.ObjectJson(i);

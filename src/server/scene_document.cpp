@@ -40,11 +40,14 @@ Json TinyRender() { return Json{{"width", 1}, {"height", 1}, {"spp", 1}, {"max_d
 }  // namespace
 
 SceneDocument::SceneDocument(const std::string& path, const RenderSettings& render)
-    : path_(path) {
-  std::string text = ReadText(path);
-  LoadSceneFromString(text, path, fs::path(path).parent_path().string());  // the full check
-  doc_ = ParseSceneJson(text, path);
-  baseDir_ = fs::absolute(fs::path(path).parent_path()).lexically_normal().string();
+    : SceneDocument(ReadText(path), path, fs::path(path).parent_path().string(), render) {}
+
+SceneDocument::SceneDocument(const std::string& text, const std::string& pathForMessages,
+                             const std::string& baseDir, const RenderSettings& render)
+    : path_(pathForMessages) {
+  LoadSceneFromString(text, path_, baseDir);  // the full check
+  doc_ = ParseSceneJson(text, path_);
+  baseDir_ = fs::absolute(fs::path(baseDir)).lexically_normal().string();
   Json renderJson = RenderSection(render);
   doc_["render"] = renderJson;  // overrides applied, adaptive dropped
   if (!doc_.contains("materials")) doc_["materials"] = Json::object();
@@ -127,9 +130,15 @@ SceneDocument::MovedObject SceneDocument::TranslatedObject(size_t index, vec3 de
 
 SceneDocument::MovedInstance SceneDocument::TranslatedInstance(size_t index, vec3 delta) const {
   if (index >= ObjectCount()) throw SceneError(path_, "objects", "no such object");
-  Json object = ObjectJson(index);
+  const Json& object = ObjectJson(index);
   const Json* transform = object.contains("transform") ? &object["transform"] : nullptr;
-  object["transform"] = TranslatedTransform(transform, delta);
+  return PlacedInstance(index, TranslatedTransform(transform, delta));
+}
+
+SceneDocument::MovedInstance SceneDocument::PlacedInstance(size_t index, Json transform) const {
+  if (index >= ObjectCount()) throw SceneError(path_, "objects", "no such object");
+  Json object = ObjectJson(index);
+  object["transform"] = std::move(transform);
   // As the loader's ParseInstance reads it: a float matrix, then checked in double.
   std::string field = "objects[" + std::to_string(index) + "].transform";
   glm::dmat4 toWorld(ParseTransform(JsonObject(JsonValue(object["transform"], field, path_))));

@@ -19,6 +19,10 @@ class SceneDocument {
   // preview samples every pixel alike). Relative mesh paths become absolute, so Text() renders
   // from any folder.
   SceneDocument(const std::string& path, const RenderSettings& render);
+  // The same from the scene's text (a scene made in memory: the Python module's dicts);
+  // pathForMessages names it in errors, baseDir is where its relative paths start.
+  SceneDocument(const std::string& text, const std::string& pathForMessages,
+                const std::string& baseDir, const RenderSettings& render);
 
   const std::string& Path() const { return path_; }
   size_t ObjectCount() const { return doc_["objects"].size(); }
@@ -54,6 +58,9 @@ class SceneDocument {
     glm::dmat4 toWorld;
   };
   MovedInstance TranslatedInstance(size_t index, vec3 delta) const;
+  // An "instance" object given a new `transform` (either form of the file's), checked as the
+  // loader checks it.
+  MovedInstance PlacedInstance(size_t index, Json transform) const;
   void SetObject(size_t index, Json object) { doc_["objects"][index] = std::move(object); }
   // render.max_depth or render.spp, within the loader's limits.
   void SetRenderSetting(const std::string& key, int64_t value);

@@ -10,6 +10,9 @@
 #include "src/integrator/wave.h"
 #include "src/lights/light_sample.h"
 #include "src/integrator/stages/bsdf_variant.h"
+#include "src/integrator/stages/normal_fold.h"
+#include "src/materials/shading_normal.h"
+#include "src/integrator/stages/light_receiver.h"
 #include "src/scene/scene_view.h"
 
 namespace pt {
@@ -50,7 +53,7 @@ PT_HDI vec3 EscapedRadiance(const SceneView& scene, IntegratorKind kind, uint32_
     uint32_t index = scene.distantLights[k];
     const Light& light = scene.lights[index];
     if (!InDirectionalCone(light, w)) continue;
-    float lightPdf = scene.lightPmf[index] * DirectionalConePdf(light);
+    float lightPdf = InfiniteLightPmf(scene, index) * DirectionalConePdf(light);
     radiance += beta * light.radiance * EmitterHitWeight(kind, flags, prevPdf, lightPdf);
   }
   return radiance;
@@ -82,22 +85,30 @@ PT_HDI vec3 FeatureAlbedo(const Material& m) {
 
 // Shading normals may disagree with the surface: a pair of directions is usable only when the
 // geometric surface separates them exactly as the shading frame does (reflection stays on
-// one side, transmission crosses), otherwise a ray would leak through the surface.
+// one side, transmission crosses), otherwise a ray would leak through the surface. (Curved
+// shading folds the BSDF instead of dropping such directions: normal_fold.h.)
 PT_HDI bool GeometricallyConsistent(const SurfaceInteraction& si, float woDotNg, vec3 wi,
                                     bool shadingSameSide) {
   bool geometricSameSide = woDotNg * glm::dot(wi, si.ng) > 0.0f;
   return geometricSameSide == shadingSameSide;
 }
 
+// Whether EmitterHitWeight reads the light pdf: MIS after a non-delta bounce (a light tree's
+// pmf walk is not free, so camera rays that see emitters skip it).
+PT_HDI bool HitNeedsLightPdf(IntegratorKind kind, uint32_t flags) {
+  return kind == IntegratorKind::kMis && (flags & kFlagSpecular) == 0;
+}
+
 // Emission of a surface that also scatters (glTF emissive): MIS-weighted against light
 // sampling when the primitive is in the light table, in full when it is not (next-event
-// estimation cannot find it then).
+// estimation cannot find it then). `from`: the previous vertex (PrevVertexRef).
 PT_HDI vec3 SurfaceEmission(const SceneView& scene, const IntegratorParams& params,
                             const SurfaceInteraction& si, const Material& mat, const Ray& ray,
-                            uint32_t flags, float prevPdf) {
+                            uint32_t flags, float prevPdf, const LightRef& from) {
   vec3 le = EmittedRadiance(mat, si.ng, -ray.d);
   if (IsBlack(le) || si.light < 0) return le;
-  float lightPdf = LightPdf(scene, si.light, ray.o, si.p, si.ng);
+  float lightPdf = HitNeedsLightPdf(params.kind, flags)
+                       ? LightPdf(scene, si.light, from, si.p, si.ng) : 0.0f;
   return le * EmitterHitWeight(params.kind, flags, prevPdf, lightPdf);
 }
 
@@ -111,20 +122,31 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 // decides whether its (MIS-weighted) contribution counts.
 template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
-                             const SurfaceInteraction& si, const Material& mat, const Frame& frame,
-                             vec3 woLocal, float woDotNg, vec3 beta, vec4 u, PathState ps,
-                             uint32_t id) {
+                             const SurfaceInteraction& si, const HitMaterial<C>& mat,
+                             const Frame& frame, vec3 woLocal, float woDotNg, vec3 beta, vec4 u,
+                             PathState ps, uint32_t id, uint32_t receiver) {
   LightLiSample ls;
-  if (!SampleLightLi<kMap>(scene, si.p, u.x, vec2(u.y, u.z), &ls) || ls.pdf <= 0.0f) return false;
+  if (!SampleLightLi<kMap>(scene, ReceiverRef(si.p, receiver), u.x, u.w, vec2(u.y, u.z), &ls) ||
+      ls.pdf <= 0.0f)
+    return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
-  // Interpolated normals: a direction on the shading normal's side but through the geometric
-  // surface (or the reverse) would start its shadow ray on the wrong side, a light leak.
-  if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
-  vec3 f = EvalBsdfFor<C, Q>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  const bool mis = !ls.isDelta && params.kind == IntegratorKind::kMis;
+  const bool flat = ShadingNormalIsGeometric(si);
+  float foldedPdf = 0.0f;
+  vec3 f;
+  if (flat) {
+    if (!GeometricallyConsistent(si, woDotNg, ls.wi, woLocal.z * wiLocal.z > 0.0f)) return false;
+    f = EvalBsdfFor<C, Q>(mat, woLocal, wiLocal) * fabsf(wiLocal.z);
+  } else {  // curved shading: the folded BSDF (normal_fold.h), which never leaks light
+    f = FoldedEvalCos<C, Q>(mat, si, frame, woLocal, woDotNg, ls.wi, wiLocal,
+                            mis ? &foldedPdf : nullptr);
+  }
   if (IsBlack(f) || IsBlack(ls.L)) return false;
   float weight = 1.0f;
-  if (!ls.isDelta && params.kind == IntegratorKind::kMis)
-    weight = PowerHeuristic(ls.pdf, PdfBsdfFor<C, Q>(mat, woLocal, wiLocal));
+  if (mis) {
+    float bsdfPdf = flat ? PdfBsdfFor<C, Q>(mat, woLocal, wiLocal) : foldedPdf;
+    weight = PowerHeuristic(ls.pdf, bsdfPdf);
+  }
   vec3 origin = SpawnOrigin(params, si, ls.wi);
   ps.shadowOrigin[id] = origin;
   ps.shadowDir[id] = ls.wi;
@@ -137,16 +159,21 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
 template <FeatureClass C, uint32_t Q>
 PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
-                         const Material& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
+                         const HitMaterial<C>& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
                          uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
   BsdfSample bs;
   if (!SampleBsdfFor<C, Q>(mat, woLocal, u.x, vec2(u.y, u.z), &bs) || bs.pdf <= 0.0f || IsBlack(bs.f))
     return false;
   vec3 wi = frame.FromLocal(bs.wi);
-  // A shading normal can send a "reflected" ray through the geometric surface (or the reverse);
-  // such a ray would leak light, so the path ends instead.
-  if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
-  *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
+  float pdf = bs.pdf;
+  if (ShadingNormalIsGeometric(si)) {
+    if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
+    *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
+  } else {  // curved shading: a ray the geometry disputes is mirrored, not lost (normal_fold.h)
+    vec3 weight;
+    FoldSample<C, Q>(mat, si, frame, woLocal, glm::dot(wo, si.ng), bs, &wi, &weight, &pdf);
+    *beta *= weight;
+  }
   uint32_t f = (*flags & ~(kFlagSpecular | kDepthMask)) | (depth + 1);
   if (bs.isDelta) f |= kFlagSpecular;
   if (kHasMedia<C> && bs.isTransmission && !bs.passesThrough)
@@ -158,7 +185,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
     *beta /= 1.0f - q;
   }
   *flags = f;
-  ps.prevPdf[id] = bs.isDelta ? 0.0f : bs.pdf;
+  ps.prevPdf[id] = bs.isDelta ? 0.0f : pdf;
   ps.rayOrigin[id] = SpawnOrigin(params, si, wi);
   ps.rayDir[id] = wi;
   return true;
@@ -208,7 +235,7 @@ template <FeatureClass C, uint32_t Q, bool kMap>
 PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
                          const WaveInfo& wave, PathState ps, uint32_t id, PathVertex v) {
   SurfaceInteraction si = MakeInteraction(scene, v.ray, v.hit);
-  Material mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
+  HitMaterial<C> mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
   vec3 wo = -v.ray.d;
   if (params.featureBuffers && v.depth == 0)
     WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns,
@@ -216,30 +243,37 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   if (IsType<Q>(mat, MaterialType::kEmissive)) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
     if (!IsBlack(le) && si.light >= 0 && params.Counts(v.depth)) {
-      float lightPdf = LightPdf<kMap>(scene, si.light, v.ray.o, si.p, si.ng);
+      LightRef from = PrevVertexRef(scene, ps, id, v.flags, v.ray.o);
+      float lightPdf = HitNeedsLightPdf(params.kind, v.flags)
+                           ? LightPdf<kMap>(scene, si.light, from, si.p, si.ng) : 0.0f;
       v.radiance += v.beta * le * EmitterHitWeight(params.kind, v.flags, v.prevPdf, lightPdf);
     }
     TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
-  if constexpr (C == FeatureClass::kGeneral) {
+  if constexpr (IsGeneralClass(C)) {
     if (IsType<Q>(mat, MaterialType::kGltfPbr) && params.Counts(v.depth))
-      v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf);
+      v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf,
+                                             PrevVertexRef(scene, ps, id, v.flags, v.ray.o));
   }
   if (int(v.depth) >= params.maxDepth) {
     TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
 
+  // Smooth and normal-mapped shading: the viewer must see the front of the shading normal.
+  si.ns = ViewValidShadingNormal(si, wo);
   Frame frame = Frame::FromZ(si.ns);
+  LocalizeMaterial<C>(frame, &mat);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
   uint32_t flags = v.flags;
+  uint32_t receiver = SurfaceReceiver(scene, si, wo, mat);  // light BVH only
   if (params.kind != IntegratorKind::kBsdf && params.Counts(v.depth + 1) &&
       HasNonDeltaLobeFor<C, Q>(mat)) {
     vec4 uLight = key.Draw4(v.depth, kDimLight);
     if (QueueLightSample<C, Q, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
-                               v.beta, uLight, ps, id))
+                               v.beta, uLight, ps, id, receiver))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(v.depth, kDimBsdf);
@@ -248,6 +282,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   ps.throughput[id] = v.beta;
   ps.radiance[id] = v.radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
+  if (alive && UsesLightTree(scene)) ps.prevNormal[id] = receiver;
 }
 
 // Shades path id in the variant of feature class C; Q: the shade queue the kernel serves
