@@ -6,9 +6,19 @@
 #     the process's wall time, NEW's time_ms parts, render rates (no regression);
 #  4. BVH builds: SAH against the GPU's linear BVH on the 3.3M scene (build ms, SAH cost,
 #     rays/s), and command to finished 64-spp image on the 10M scene (BASE sah, NEW auto).
-# Medians of REPEATS (5). Run on the GPU machine from the repository root:
-#   BASE=/tmp/base/bin NEW=/tmp/new/bin SHARED=/tmp/new/shared OUT=out \
+# Medians of REPEATS (5). Packing, on the build machine (CUDA build of this branch in build/,
+# the base's, e.g. main before the merge of this branch, in BASE_BUILD):
+#   tools/pack_device.sh build && mkdir -p .device/base && cp "$BASE_BUILD/pathtracer" \
+#     .device/base/ && ln -sfn ../bin/lib .device/base/lib
+# then on the GPU machine, from the repository root:
+#   BASE=.device/base NEW=.device/bin SHARED=.device/shared OUT=$OUT \
 #     bash benchmarks/issue28_gpu_check.sh
+# What to look for: tests pass; cliff: NEW's wide shadow ms close to binary's and to the
+# nudged scene's; wall: NEW's wall time - render <= 0.3 s on the bunny (issue 28's target) and
+# its time_ms parts summing to within 2% of the wall; bvh: the gpu builder's bvh_build <= 50 ms
+# on the 3.3M scene with Mrays/s >= 90% of sah's, built_on "device"; the 10M scene's wall time
+# BASE / NEW >= 3. The 2-GPU whole-run table: benchmarks/mpi_gpu_check.sh with NEW's pack on
+# nvidia-h100-x2 (efficiency = T1 / (2 T2) from the wall times it prints).
 # Benchmark scenes reach ../../../shared from benchmarks/scenes/: it must lead to SHARED.
 set -uo pipefail
 BASE="${BASE:?BASE: the folder of the base build (pathtracer)}"
@@ -49,7 +59,8 @@ t = runs[0]["time_ms"]
 line = (f"  {name}: total {med(lambda x: x['time_ms']['total']):.1f} ms, render "
         f"{med(lambda x: x['time_ms']['render']):.1f}, load {med(lambda x: x['time_ms']['load']):.1f}, "
         f"bvh {med(lambda x: x['time_ms']['bvh_build']):.1f}, {med(lambda x: x['mrays_per_s']):.1f} Mrays/s, "
-        f"sah {runs[0]['bvh']['sah_cost']:.2f}, shadow {med(lambda x: x['time_ms']['stages']['shadow']):.1f}")
+        f"sah {runs[0]['bvh']['sah_cost']:.2f}, shadow {med(lambda x: x['time_ms']['stages']['shadow']):.1f}, "
+        f"builder {runs[0]['bvh'].get('builder', '-')} on {runs[0]['bvh'].get('built_on', '-')}")
 print(line)
 if "parts" in t:
     print("    parts: " + ", ".join(f"{p} {med(lambda x: x['time_ms'][p]):.1f}" for p in t["parts"]))

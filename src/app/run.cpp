@@ -112,7 +112,9 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   AppTimes times;
   SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
   timeline.Mark("load");
-  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends, &device), &times.bvhBuildMs);
+  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends, &device, 0, &times.bvhOnDevice),
+                      &times.bvhBuildMs);
+  times.bvhBuilder = BuilderThatRan(cli, times.bvhOnDevice);
   timeline.Mark("build");
   timeline.Split("build", {{"bvh_build", times.bvhBuildMs}}, "scene_prep");
   for (const std::string& warning : DarkSceneWarnings(scene)) Warn(warning);

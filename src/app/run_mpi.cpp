@@ -66,7 +66,9 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
   RankSetup s;
   if (job.Rank() == 0) CheckOutputsWritable(cli);
   s.scene.emplace(Build(LoadAndOverride(cli, &s.times.loadMs),
-                        ChooseBvh(cli, backends, device, job.LocalRank()), &s.times.bvhBuildMs));
+                        ChooseBvh(cli, backends, device, job.LocalRank(), &s.times.bvhOnDevice),
+                        &s.times.bvhBuildMs));
+  s.times.bvhBuilder = BuilderThatRan(cli, s.times.bvhOnDevice);
   const AppClock::time_point probe = AppClock::now();
   BackendKind backend = ChooseBackend(cli.backend, backends, device);
   s.deviceProbeMs = MsSince(probe);

@@ -147,7 +147,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
   RenderRates rates = ComputeRates(stats);
   bool stoppedEarly =
       run.stopReason == "signal" || run.stopReason == "time_limit" || run.stopReason == "failed";
-  return Json{
+  Json doc{
       {"version", PT_VERSION},
       {"command_line", run.commandLine},
       {"scene_file", run.sceneFile},
@@ -192,6 +192,11 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"nonfinite_samples", stats.nonfiniteSamples},
       {"reference_relmse", RelMseJson(stats)},
   };
+  if (!times.bvhBuilder.empty()) {  // which builder ran (--bvh-build auto's choice), and where
+    doc["bvh"]["builder"] = times.bvhBuilder;
+    doc["bvh"]["built_on"] = times.bvhOnDevice ? "device" : "host";
+  }
+  return doc;
 }
 
 void WriteStatsJson(const std::string& path, const Json& document) {

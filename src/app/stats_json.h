@@ -21,6 +21,10 @@ struct AppTimes {
   // their sum, and first_pixel is reported.
   const RunTimeline* timeline = nullptr;
   double deviceStartBackgroundMs = -1.0;  // the device's start-up off the main thread (>= 0)
+  // The builder that made the BVH (bvh.builder: sah, sbvh, gpu; empty: not reported) and
+  // whether the GPU built it (bvh.built_on: "device" or "host").
+  std::string bvhBuilder;
+  bool bvhOnDevice = false;
 };
 
 // What the app knows of the run beyond the renderer's statistics.
