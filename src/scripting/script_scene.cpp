@@ -247,6 +247,7 @@ void ScriptScene::Rebuild(const CliOptions& cli, const RenderSettings& render,
 
 const Scene& ScriptScene::Prepare(const CliOptions& cli, AppTimes* times) {
   *times = AppTimes{};
+  times->bvhBuilder = BuilderThatRan(cli, false);  // the module builds on the host
   RenderSettings render = base_.render;
   ApplyCliOverrides(cli, &render);
   BuildKey key = KeyFor(cli, render);
