@@ -61,7 +61,7 @@ TEST(RunTimeline, StatsPartsAddUpToTheProcessWallTime) {
   const std::string stats = dir + "/stats.json";
   const std::string args = scene + " -o " + dir + "/out.png --hdr " + dir +
                            "/out.exr --backend cpu --threads 2 --quiet --width 96 --height 96 "
-                           "--spp 48 --stats-json " + stats;
+                           "--spp 256 --stats-json " + stats;
   std::string out;
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(test::RunPathtracer(args, &out), 0) << out;

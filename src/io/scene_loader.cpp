@@ -17,7 +17,6 @@
 #include "src/io/image_io.h"
 #include "src/io/media_json.h"
 #include "src/io/model_scene.h"
-#include "src/io/scene_files.h"
 #include "src/io/scene_json.h"
 #include "src/scene/instances.h"
 #include "src/scene/transform.h"
@@ -507,6 +506,30 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   return scene;
 }
 
+// The files of the scene's "objects" and "meshes" entries, to parse ahead (none when the text
+// is not a scene the loader would read: its own errors name the field). Through the loader's
+// depth-limited parser: a deeply nested document must not overflow a recursive walk.
+static std::vector<std::string> TopLevelMeshFiles(const std::string& text,
+                                                  const std::string& path,
+                                                  const std::string& baseDir) {
+  std::vector<std::string> files;
+  try {
+    const Json json = ParseSceneJson(text, path);
+    for (const char* table : {"objects", "meshes"}) {
+      const auto it = json.find(table);
+      if (it == json.end()) continue;
+      for (const Json& entry : *it) {
+        if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string()) continue;
+        const fs::path file(entry["file"].get<std::string>());
+        files.push_back(file.is_absolute() ? file.string() : (fs::path(baseDir) / file).string());
+      }
+    }
+  } catch (const std::exception&) {
+    files.clear();
+  }
+  return files;
+}
+
 SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
   if (IsModelFile(path)) return LoadModelScene(path, options);
   std::error_code ec;
@@ -521,11 +544,7 @@ SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
   // The scene's glTF files parse on threads of their own while the loader reads the scene;
   // each file once, however often it is placed.
   GltfParseCache parses;
-  try {
-    parses.Prefetch(SceneInputFiles(path));
-  } catch (const std::exception&) {
-    // A file that cannot be read is the loader's to report, naming the field.
-  }
+  parses.Prefetch(TopLevelMeshFiles(text.str(), path, baseDir));
   return LoadSceneFromString(text.str(), path, baseDir, options);
 }
 
