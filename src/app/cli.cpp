@@ -273,7 +273,8 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
       {"--bvh-build",
        [](CliOptions& o, ValueSource& s) {
          o.bvhBuilder =
-             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh}});
+             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh},
+                                         {"gpu", BvhBuilder::kLbvh}, {"auto", BvhBuilder::kAuto}});
        }},
   };
   return table;

@@ -63,7 +63,7 @@ struct CliOptions {
   std::optional<float> fogSigmaS;     // --fog: a homogeneous medium around the camera
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // --transmittance
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
-  BvhBuilder bvhBuilder = BvhBuilder::kSah;
+  BvhBuilder bvhBuilder = BvhBuilder::kAuto;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
 

@@ -80,7 +80,11 @@ Backend and performance
                            bits, or over all 32 (default auto: counting)
   --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = the faster
                            one measured (wide, on the CPU and the GPU; default auto)
-  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
+  --bvh-build sah|sbvh|gpu|auto
+                           binned SAH, SAH with spatial splits (slower build), or the linear
+                           BVH built on the GPU (on the CPU without one; faster build, slower
+                           rays); default auto: gpu for meshes of 2^20+ primitives rendered on
+                           a GPU, else sah
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --film float|double      film accumulation precision (default float)
   --tri-test watertight|box-clamped|mt

@@ -46,7 +46,7 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
   double loadMs = 0.0, bvhMs = 0.0;
   SceneDesc desc = LoadAndOverride(cli, &loadMs);
   SceneDocument document = LoadDocument(cli, desc.render);
-  Scene scene = Build(std::move(desc), ChooseBvh(cli), &bvhMs);
+  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends), &bvhMs);
   BackendKind backend = ChooseBackend(cli.backend, backends);
   LiveSettings settings;
   settings.options = MakeRenderOptions(cli, backend, nullptr);

@@ -21,6 +21,7 @@ std::unique_ptr<Denoiser> MakeCudaDenoiser(int, const DenoiseSettings&) {
 }
 bool CudaBackendBuilt() { return false; }
 int CudaDeviceCount() { return 0; }
+int CudaStartDevice(int) { return 0; }
 std::string CudaDeviceName() { return ""; }
 
 }  // namespace pt

@@ -162,6 +162,8 @@ RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
 
 bool CudaBackendBuilt();
 int CudaDeviceCount();      // 0 when not built or no GPU
+// Starts GPU localRank % count (driver, context, modules) and returns the count (0: none).
+int CudaStartDevice(int localRank);
 std::string CudaDeviceName();
 
 // relMSE as the CLI contract defines it: mean((x - r)^2 / (r^2 + 1e-2)) over pixels, channels.
