@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Issue 28 on one GPU, the build before (BASE) against this branch's (NEW), in one call:
 #  1. NEW's tests with the GPU cases (AxisRays, Lbvh, BvhWide, every *Gpu* case);
+#     regress: the Cornell box's render and traversal stages, both layouts, both builds (the
+#     parallel-axis cull must cost rays without a parallel axis nothing), and the registers of
+#     each build's kernels (cuobjdump, where the toolkit has it);
 #  2. the axis-aligned cliff: shadow-stage ms of the sun scenes, wide and binary, both builds;
 #  3. the wall clock of whole runs (bunny 1080p 1024 spp, Breakfast Room, the 3.3M scene):
 #     the process's wall time, NEW's time_ms parts, render rates (no regression);
@@ -26,7 +29,7 @@ NEW="${NEW:?NEW: the folder of this build (pathtracer, pt_tests)}"
 SHARED="${SHARED:?SHARED: the parent of the assets folder}"
 OUT="${OUT:-out}"
 REPEATS="${REPEATS:-5}"
-STEPS="${STEPS:-tests cliff wall bvh}"
+STEPS="${STEPS:-tests regress cliff wall bvh}"
 mkdir -p "$OUT/stats"
 exec > >(tee "$OUT/log.txt") 2>&1
 [ -e ../shared ] || ln -s "$SHARED" ../shared
@@ -74,6 +77,35 @@ if [[ " $STEPS " == *" tests "* ]]; then
   (cd "$NEW" && timeout "${TEST_SECONDS:-180}" ./pt_tests --gtest_brief=1 \
      --gtest_filter="${TEST_FILTER:-AxisRays*:Lbvh*:*Gpu*:RunTimeline*}" ) > "$OUT/tests.log" 2>&1
   echo "pt_tests: exit $?"; tail -4 "$OUT/tests.log"
+fi
+
+if [[ " $STEPS " == *" regress "* ]]; then
+  step "the Cornell box, no parallel rays (512x512, 64 spp): render and traversal stages"
+  for bvh in wide binary; do
+    for b in BASE NEW; do
+      bin=$([ $b = BASE ] && echo "$BASE" || echo "$NEW")
+      wall "$bin" "regress_${bvh}_$b" scenes/cornell_box.json --bvh "$bvh" --width 512 \
+        --height 512 --spp 64 >/dev/null
+      summary "regress_${bvh}_$b" | head -1
+      python3 - "$OUT/stats" "regress_${bvh}_$b" "$REPEATS" <<'PY'
+import json, statistics, sys
+d, name, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
+runs = [json.load(open(f"{d}/{name}_{r}.json")) for r in range(1, n + 1)]
+st = lambda k: statistics.median(x["time_ms"]["stages"][k] for x in runs)
+print(f"    intersect {st('intersect'):.2f} ms, shadow {st('shadow'):.2f} ms, shade {st('shade'):.2f} ms")
+PY
+    done
+  done
+  if command -v cuobjdump >/dev/null || [ -x /usr/local/cuda/bin/cuobjdump ]; then
+    CUOBJ=$(command -v cuobjdump || echo /usr/local/cuda/bin/cuobjdump)
+    for b in BASE NEW; do
+      bin=$([ $b = BASE ] && echo "$BASE" || echo "$NEW")
+      "$CUOBJ" -res-usage "$bin/pathtracer" 2>/dev/null | grep -A1 "Function" | paste - - |
+        grep -iE "intersect|shadow|occlu|trace" | sed -E 's/.*Function ([^ :]*).*REG:([0-9]+).*STACK:([0-9]+).*/\1 REG \2 STACK \3/' |
+        cut -c1-160 > "$OUT/regs_$b.txt"
+      echo "$b: $(wc -l < "$OUT/regs_$b.txt") traversal kernels; registers:"; head -12 "$OUT/regs_$b.txt"
+    done
+  fi
 fi
 
 if [[ " $STEPS " == *" cliff "* ]]; then
