@@ -166,11 +166,11 @@ struct WideWalk {
   // it: its interior hits become the group, its primitive hits the primitive group, unless
   // kPostpone and too few lanes have primitives (PostponePrims).
   // kNearest: the new group's nearest child is taken first (closest-hit walks).
-  template <bool kPostpone = true, bool kNearest = false>
+  template <bool kPostpone = true, bool kNearest = false, bool kParallel = true>
   PT_HDI_HOT void VisitNext(const WideBvhNode* nodes, const WideRay& r, float tMax) {
     const uint32_t index = NextChild(groupBase, &groupMask, r.octInv, first);
     if (HasNode() && stackSize < kCapacity) Push(groupBase, groupMask);
-    const WideNodeHits n = TestWideNode<kNearest>(nodes + index, r, tMax);
+    const WideNodeHits n = TestWideNode<kNearest, kParallel>(nodes + index, r, tMax);
     first = n.nearest;
     groupBase = n.childBase;
     groupMask = (n.hits & 0xff000000u) | n.innerMask;
@@ -214,22 +214,21 @@ struct WideWalk {
 
 }  // namespace detail
 
-// Walks a wide BVH: the current node group is consumed highest bit first (after the nearest
-// child when kNearest); the rest of a group waits on the stack. Hit primitives go to the leaf
-// callback; *tMax as in the binary traversal.
-template <TraceMode kMode, typename LeafFn, bool kNearest = kWideNearestFirst<kMode>>
-PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
+namespace detail {
+
+// The walk of Traverse, for a ray made by MakeWideRay. kParallel: the node test checks the
+// ray's parallel axes (false only for a ray without any).
+template <TraceMode kMode, bool kNearest, bool kParallel, typename LeafFn>
+PT_HDI void WalkWide(const WideBvh& bvh, const WideRay& r, float* tMaxInOut, LeafFn& leaf,
                      TraversalCounters* counters) {
-  if (bvh.nodeCount == 0 || !TraceableRay(ray)) return;
   float tMax = *tMaxInOut;
-  const detail::WideRay r = detail::MakeWideRay(ray);
   uint32_t nodesVisited = 0;
-  detail::WideStack<kWideStackCapacity> stack;
-  detail::WideWalk<kWideStackCapacity> w(stack);
+  WideStack<kWideStackCapacity> stack;
+  WideWalk<kWideStackCapacity> w(stack);
   for (;;) {
     if (w.primMask == 0 && w.HasNode()) {
       ++nodesVisited;
-      w.template VisitNext<true, kNearest>(bvh.nodes, r, tMax);
+      w.template VisitNext<true, kNearest, kParallel>(bvh.nodes, r, tMax);
     }
     const bool done = w.TestPrims([&](uint32_t prim) {
       return leaf(prim, 1u, &tMax) && kMode == TraceMode::kAny;
@@ -238,6 +237,31 @@ PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafF
   }
   *tMaxInOut = tMax;
   if (counters) counters->nodes += nodesVisited;
+}
+
+}  // namespace detail
+
+// Walks a wide BVH: the current node group is consumed highest bit first (after the nearest
+// child when kNearest); the rest of a group waits on the stack. Hit primitives go to the leaf
+// callback; *tMax as in the binary traversal.
+template <TraceMode kMode, typename LeafFn, bool kNearest = kWideNearestFirst<kMode>>
+PT_HDI void Traverse(const WideBvh& bvh, const Ray& ray, float* tMaxInOut, LeafFn& leaf,
+                     TraversalCounters* counters) {
+  if (bvh.nodeCount == 0 || !TraceableRay(ray)) return;
+  const detail::WideRay r = detail::MakeWideRay(ray);
+#if PT_IS_GPU_CODE
+  // Two copies of the walk on the GPU: rays without a parallel axis (nearly all, in most
+  // scenes) run one with no parallel-axis code in its loop. One walk with the test in its node
+  // loop, its branch never taken, made the Cornell box's intersect stage 25% slower on an H100
+  // (7.23 against 5.78 ms at bc3982d; split: 6.01, benchmarks/RESULTS.md).
+  if (r.parallel != 0) {
+    detail::WalkWide<kMode, kNearest, true>(bvh, r, tMaxInOut, leaf, counters);
+    return;
+  }
+  detail::WalkWide<kMode, kNearest, false>(bvh, r, tMaxInOut, leaf, counters);
+#else
+  detail::WalkWide<kMode, kNearest, true>(bvh, r, tMaxInOut, leaf, counters);
+#endif
 }
 
 }  // namespace pt

@@ -359,10 +359,12 @@ struct WideNodeFrame {
 // The node test one slot at a time (the GPU's; hosts run it for kNearest). kNearest: also
 // *nearestBit = the mask bit of the hit interior child with the smallest entry distance (0:
 // none), which closest-hit walks on the GPU visit first (traverse_wide.h).
-template <bool kNearest>
+// kParallel: the ray may have a parallel axis (r.parallel, checked per node); a walk whose ray
+// has none may leave it out (traverse_wide.h: the GPU's walk then has no parallel-axis code).
+template <bool kNearest, bool kParallel = true>
 PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const WideRay& r,
                                                 float tMax, uint32_t* nearestBit) {
-  const WideNodeFrame f = WideNodeFrame::MakeExact(n, r);
+  const WideNodeFrame f = kParallel ? WideNodeFrame::MakeExact(n, r) : WideNodeFrame::Make(n, r);
   uint32_t hits = 0, nearest = 0;
   float nearestT = tMax;
   for (int half = 0; half < 2; ++half) {
@@ -420,7 +422,7 @@ struct WideNodeHits {
 // kNearest (the GPU's closest-hit walks): with the nearest hit interior child. Hosts then run
 // the scalar test (tests/bvh_wide_test.cpp walks that way); their own walks take the octant
 // order, which was faster on the CPU (benchmarks/RESULTS.md, 2026-11-26, third session).
-template <bool kNearest = false>
+template <bool kNearest = false, bool kParallel = true>
 PT_HDI_HOT WideNodeHits TestWideNode(const WideBvhNode* node, const WideRay& r, float tMax) {
 #ifdef PT_WIDE_AVX2
   if constexpr (!kNearest) {
@@ -431,8 +433,13 @@ PT_HDI_HOT WideNodeHits TestWideNode(const WideBvhNode* node, const WideRay& r, 
 #endif
   const WideNodeWords n = LoadWideNode(node);
   WideNodeHits h{0u, n.w[4], n.w[5], n.w[3] >> 24};
-  if constexpr (kNearest) h.hits = IntersectWideChildrenScalar<true>(n, r, tMax, &h.nearest);
-  else h.hits = IntersectWideChildren(n, r, tMax);
+  if constexpr (kNearest) {
+    h.hits = IntersectWideChildrenScalar<true, kParallel>(n, r, tMax, &h.nearest);
+  } else if constexpr (!kParallel) {
+    h.hits = IntersectWideChildrenScalar<false, false>(n, r, tMax, nullptr);
+  } else {
+    h.hits = IntersectWideChildren(n, r, tMax);
+  }
   return h;
 }
 
