@@ -4,6 +4,7 @@
 #include "src/app/run.h"
 #include "src/io/film_state_exr.h"
 #include "src/io/image_io.h"
+#include "src/io/tone_mapping.h"
 
 namespace pt {
 
@@ -21,10 +22,21 @@ void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const Resuma
   WriteResumableExr(cli.hdrPath, image, *state.film, state.doubleFilm, state.description);
 }
 
+void WriteDisplayImage(const std::string& path, const FilmImage& image,
+                       const DisplaySettings& display) {
+  ImageFormat format;
+  if (display.IsDefault() || !ImageFormatFromPath(path, &format) || format != ImageFormat::kPng) {
+    WriteImage(path, image, false);  // linear formats are never tone-mapped
+    return;
+  }
+  WriteFileAtomic(path, EncodePng8(path, image.width, image.height,
+                                   DisplayPixels(image.rgb, display)));
+}
+
 std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& image,
                                      const ResumableState* state) {
   std::vector<std::string> written;
-  WriteImage(cli.outputPath, image, false);
+  WriteDisplayImage(cli.outputPath, image, cli.display);
   written.push_back(cli.outputPath);
   if (!cli.hdrPath.empty()) {
     if (state && IsExrPath(cli.hdrPath)) WriteCheckpoint(cli, image, *state);
