@@ -162,12 +162,18 @@ def start_server(pathtracer, scene, cwd, extra):
     message when it did not start."""
     server = subprocess.Popen([pathtracer, scene, "--serve", "0"] + extra, cwd=cwd,
                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    line = server.stderr.readline()
-    match = re.search(r"http://127\.0\.0\.1:(\d+)/", line)
-    if not match:
-        server.wait()
-        return server, line + server.stderr.read()
-    return server, int(match.group(1))
+    said = ""
+    for _ in range(50):  # a model file's summary line may come first
+        line = server.stderr.readline()
+        said += line
+        match = re.search(r"http://127\.0\.0\.1:(\d+)/", line)
+        if match:
+            return server, int(match.group(1))
+        if not line:
+            break
+    server.kill()
+    server.wait()
+    return server, said
 
 
 def interrupt(server):
