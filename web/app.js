@@ -86,13 +86,13 @@ async function post(path, body) {
 // control of the field the server names).
 async function edit(path, body, input = null) {
   const sent = performance.now();
+  if (input) clearFieldErrors();  // a new value for a control: its old message goes
   try {
     const answer = await post(path, body);
     if (answer.restarts && !editSent.has(answer.generation)) editSent.set(answer.generation, sent);
     return answer;
   } catch (e) {
     preview.lastErrorField = e.field || '';
-    clearFieldErrors();
     if (state) applyState(state, true);
     let target = input;
     if (input && input.dataset.material !== undefined) {  // the form again, as in force
@@ -259,7 +259,6 @@ function applyState(next, again = false) {
   const selectionChanged = !state || JSON.stringify(state.selection) !== JSON.stringify(next.selection);
   const cameraChanged = !state || JSON.stringify(state.camera) !== JSON.stringify(next.camera);
   state = preview.state = next;
-  if (!again) clearFieldErrors();
   if (!interacting || !camera) camera = structuredClone(state.camera);
   if (!camera.up) camera.up = [0, 1, 0];
   showFov();

@@ -309,6 +309,7 @@ def lowered_spp_and_rejected_value(dt, out):
     dt.screenshot(os.path.join(out, "6_spp_lowered.png"))
     print(f"target lowered to 2 at {ended} spp: \"{message}\"")
     set_value(dt, "f-spp", 100000)
+    wait_for(lambda: dt.eval("preview.state.options.spp") == 100000, "the target raised again")
     depth = dt.eval("preview.state.options.max_depth")
     set_value(dt, "f-max-depth", -1)
     note = wait_for(lambda: dt.eval("(() => { const n = document.querySelector('.field-error');"
