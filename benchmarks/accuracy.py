@@ -128,7 +128,7 @@ class Study(RobustnessParts, ReportParts, PublishedParts):
                        sum(1 for c in CONFIGS if c[2] == 1), plan.seeds2,
                        sum(1 for c in CONFIGS if c[2] == 2), len(runs)))
         L("    configs: " + "; ".join("%s [%s]" % (c[0], " ".join(
-            "%s %s" % (FLAG_NAMES[k], v) for k, v in c[3].items()) or "baseline")
+            "%s %s" % (FLAG_NAMES.get(k, "--" + k), v) for k, v in c[3].items()) or "baseline")
             for c in CONFIGS))
         L("    baseline flags: " + " ".join(flags_of(BASE)))
         L("  estimated: part 1 %.0f s, part 2 %.0f s, part 3 %.0f s, part 5 %.0f s "

@@ -21,7 +21,7 @@ REL_EPS = 1e-2  # the relMSE denominator's constant (cli.md)
 # Configurations of part 2. The baseline passes every studied flag explicitly, so rows such
 # as "rr 3" or "compact on" are the baseline's runs, not re-runs (listed as aliases).
 BASE = {"integrator": "mis", "adaptive": "off", "rr": "3", "depth": 8, "compact": "on",
-        "sort": "off", "film": "float", "lp": "all"}
+        "sort": "off", "film": "float", "lp": "all", "denoise": "off"}
 # name, study group, tier (1: changes the estimator; 2: should change only time), overrides,
 # render-cost multiplier for the planner.
 CONFIGS = [
@@ -39,12 +39,14 @@ CONFIGS = [
     ("compact off", "compaction", 2, {"compact": "off"}, 1.3),
     ("sort material", "sorting", 2, {"sort": "material"}, 1.7),
     ("film double", "film", 2, {"film": "double"}, 1.05),
+    # --denoise: relMSE of the denoised image against render + denoise time (docs/denoise.md)
+    ("denoise on", "denoising", 1, {"denoise": "on"}, 1.1),
 ]
 ALIASES = {"adaptive": "adaptive off", "russian roulette": "rr 3", "max depth": "depth 8",
            "light paths": "all light", "compaction": "compact on", "sorting": "sort off",
-           "film": "film float"}
+           "film": "film float", "denoising": "denoise off"}
 GROUP_ORDER = ["integrator", "adaptive", "russian roulette", "max depth", "light paths",
-               "compaction", "sorting", "film"]
+               "compaction", "sorting", "film", "denoising"]
 REF_SEEDS = (1000001, 1000002)
 
 DEFAULT_SCENES = ["scenes/cornell_glass_mirror.json:128x128",
@@ -69,6 +71,8 @@ def flags_of(s):
     out = []
     for k, flag in FLAG_NAMES.items():
         out += [flag, str(s[k])]
+    if s.get("denoise") == "on":  # a flag without a value
+        out.append("--denoise")
     return out
 
 
@@ -326,7 +330,9 @@ class Runner:
 
 
 def stat_fields(stats, wall):
-    return dict(render_s=stats["time_ms"]["render"] / 1000.0, wall_s=wall,
+    # A denoised run's time is the render's plus the denoiser's.
+    seconds = (stats["time_ms"]["render"] + stats["time_ms"].get("denoise", 0.0)) / 1000.0
+    return dict(render_s=seconds, wall_s=wall,
                 samples=stats.get("samples", ""), spp_mean=stats.get("spp_mean", ""),
                 nonfinite=stats.get("nonfinite_samples", ""))
 

@@ -7,8 +7,9 @@ time of the three ways next-event estimation chooses a light,
   power    by power alone (--light-sampler power)
   uniform  every light alike (--light-sampler uniform)
 
-on scenes lit by many small emitters: a generated city block at night (50,000 lit windows and
-the street lamps) and the Breakfast Room hung with 10,000 fairy lights (both written by
+on scenes lit by many small emitters: a generated city block at night (its streets lined
+with 20,000 small downward lamps, seen from above) and the Breakfast Room hung with 10,000
+fairy lights (both written by
 benchmarks/scenes/make_many_lights.py), and DamagedHelmet lit only by its emissive texture
 (benchmarks/scenes/damaged_helmet_emissive.json). The reference of each scene is a bvh render
 of --ref-spp samples made of two halves with different seeds (their difference gives the

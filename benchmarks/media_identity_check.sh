@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Scenes without media must render exactly as before media existed. Renders every scene of
-# scenes/ (small, few samples, CPU backend) with a binary built before the media work and with
-# this one, and compares the linear images bit for bit (tools/image_compare exits 0 only then).
+# scenes/ without media (small, few samples, CPU backend) with a binary built before the media
+# work and with this one, and compares the linear images bit for bit (tools/image_compare
+# exits 0 only then).
 #
 #   bash benchmarks/media_identity_check.sh BEFORE_PATHTRACER AFTER_PATHTRACER IMAGE_COMPARE [OUT]
 #   e.g. bash benchmarks/media_identity_check.sh /work/main/build/pathtracer build/pathtracer \
@@ -14,7 +15,15 @@ backend=${BACKEND:-cpu}
 here=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$out"
 status=0
-for scene in "$here"/scenes/*.json; do
+scenes=("$here"/scenes/*.json)
+# BENCH_SCENES=1: the benchmark scenes too (shared assets; media scenes of ours skipped).
+if [ -n "${BENCH_SCENES:-}" ]; then
+  for s in "$here"/benchmarks/scenes/*.json; do
+    grep -q '"media"' "$s" || scenes+=("$s")
+  done
+fi
+for scene in "${scenes[@]}"; do
+  grep -q '"media"' "$scene" && continue  # media scenes: new, nothing to compare with
   name=$(basename "$scene" .json)
   for bin in before after; do
     exe=$before; [ $bin = after ] && exe=$after

@@ -12,7 +12,8 @@ With --orbit-seconds S it first orbits continuously for S seconds, a camera edit
 (as a mouse drag sends them), while another connection long-polls frames as the page does: the
 frames shown per second during the orbit (by kind: coarse frames at reduced resolution, full
 frames) are the issue-33 target (>= 4 on 2 CPU cores, >= 20 on an H100, Cornell box at 512^2).
-Standard library only.
+With --denoise the server starts with the page's denoise toggle on (frames shown denoised; the
+last frame's denoise time is reported). Standard library only.
 
   python3 benchmarks/serve_latency.py --pathtracer build/pathtracer --scene scenes/cornell_box.json \
       --width 512 --height 512 --backend cpu
@@ -122,6 +123,8 @@ def main():
     ap.add_argument("--move-object", type=int, help="edits move this object, not the camera")
     ap.add_argument("--orbit-seconds", type=float, default=0.0,
                     help="first orbit at 30 Hz this long and count the frames shown")
+    ap.add_argument("--denoise", action="store_true",
+                    help="start with the page's denoise on (full frames shown denoised)")
     ap.add_argument("--json", help="write the results here")
     args = ap.parse_args()
 
@@ -130,6 +133,8 @@ def main():
                "--quiet"]
     if args.threads:
         command += ["--threads", str(args.threads)]
+    if args.denoise:
+        command += ["--denoise"]
     server = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     line = server.stderr.readline()
     match = re.search(r"http://[^:]+:(\d+)/", line)
@@ -203,6 +208,7 @@ def main():
             "rays_per_s": stats.get("rays_per_s"),
             "rebuilds": stats.get("rebuilds"),
             "rebuild_ms_median": statistics.median(rebuild_ms) if rebuild_ms else None,
+            "denoise": args.denoise, "denoise_ms": stats.get("denoise_ms"),
         }
         result.update(orbit)
         print(f"{args.scene} {args.width}x{args.height} on {result['backend']} ({result['device']})")
@@ -222,6 +228,8 @@ def main():
                   f"({r['scene']} scene rebuilds, {r['top_level']} top-level rebuilds)")
         print(f"  steady: {result['frames_per_s']:.1f} frames/s, {result['spp_per_s']:.1f} spp/s, "
               f"{result['samples_per_s'] / 1e6:.2f} M samples/s, {result['rays_per_s'] / 1e6:.2f} M rays/s")
+        if args.denoise:
+            print(f"  denoised frames: the last took {result['denoise_ms'] or 0:.1f} ms to denoise")
         if args.json:
             with open(args.json, "w") as f:
                 json.dump(result, f, indent=2)

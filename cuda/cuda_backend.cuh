@@ -1,8 +1,8 @@
 // The CUDA backend: device arrays, one kernel launch per stage running the very same stage
 // body as the CPU, Thrust for compaction, CUB and two kernels of ours for the ordering by
 // material (render_cuda.cu).
-// Included by render_cuda.cu and media_cuda.cu only (Thrust compiles slowly; media_cuda.cu
-// instantiates no Thrust call).
+// Included by render_cuda.cu, which instantiates every Thrust call (Thrust compiles slowly),
+// and by media_cuda.cu and denoise_cuda.cu, which make none.
 #pragma once
 
 #include <thrust/count.h>

@@ -217,6 +217,17 @@ int CudaDeviceCount() {
   return count;
 }
 
+int CudaStartDevice(int localRank) {
+  const int count = CudaDeviceCount();
+  if (count == 0) return 0;
+  // Makes the device's primary context, which loads every kernel (eager loading); the
+  // session's own cudaSetDevice later finds it ready.
+  if (cudaSetDevice(localRank % count) != cudaSuccess || cudaFree(nullptr) != cudaSuccess) {
+    cudaGetLastError();  // the session reports the failure when it starts
+  }
+  return count;
+}
+
 std::string CudaDeviceName() {
   cudaDeviceProp prop;
   if (CudaDeviceCount() == 0 || cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return "";

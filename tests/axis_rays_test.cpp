@@ -222,7 +222,8 @@ TEST(AxisRays, EveryLayoutAndWalkMatchesBruteForceAndCullsAsAPerturbedRay) {
       shapes.tris, shapes.quads, shapes.spheres, AxisOptions(BvhLayout::kBinary, BvhBuilder::kSah));
   const std::pair<BvhLayout, BvhBuilder> builds[] = {{BvhLayout::kBinary, BvhBuilder::kSah},
                                                      {BvhLayout::kWide, BvhBuilder::kSah},
-                                                     {BvhLayout::kWide, BvhBuilder::kSbvh}};
+                                                     {BvhLayout::kWide, BvhBuilder::kSbvh},
+                                                     {BvhLayout::kWide, BvhBuilder::kLbvh}};
   FlatPlanes planes;
   for (const Triangle& t : shapes.tris) {
     const vec3 c[3] = {t.p0, t.p1, t.p2};

@@ -158,19 +158,25 @@ TEST_F(CliRun, BackendCudaWithoutGpuExitsThree) {
   EXPECT_FALSE(fs::exists(dir_ + "/out.png"));
 }
 
-// --bvh and --bvh-build reach the build (the stats name the layout; auto is wide), and the
-// image does not depend on them: the closest hit is a property of the scene, not of the tree.
+// --bvh and --bvh-build reach the build (the stats name the layout and the builder that ran;
+// auto is wide, and sah for a small scene), and the image does not depend on them: the closest
+// hit is a property of the scene, not of the tree. The linear BVH (gpu) runs on the host's
+// threads on the CPU backend.
 TEST_F(CliRun, BvhOptionsChangeTheTreeNotTheImage) {
   std::string reference;
   const char* variants[] = {"", " --bvh binary", " --bvh wide --bvh-build sbvh",
-                            " --bvh=binary --bvh-build=sbvh"};
-  const char* layouts[] = {"wide", "binary", "wide", "binary"};
-  for (int v = 0; v < 4; ++v) {
+                            " --bvh=binary --bvh-build=sbvh", " --bvh-build gpu",
+                            " --bvh binary --bvh-build gpu"};
+  const char* layouts[] = {"wide", "binary", "wide", "binary", "wide", "binary"};
+  const char* builders[] = {"sah", "sah", "sbvh", "sbvh", "gpu", "gpu"};
+  for (int v = 0; v < 6; ++v) {
     std::string out, stats = dir_ + "/stats.json", image = dir_ + "/out.exr";
     ASSERT_EQ(RunPathtracer(scene_ + " -o " + image + " --backend cpu --quiet --stats-json " +
                                 stats + variants[v], &out), 0) << variants[v] << ": " << out;
     nlohmann::json j = nlohmann::json::parse(ReadText(stats));
     EXPECT_EQ(j["bvh"]["layout"], layouts[v]) << variants[v];
+    EXPECT_EQ(j["bvh"]["builder"], builders[v]) << variants[v];
+    EXPECT_EQ(j["bvh"]["built_on"], "host") << variants[v];
     std::string pixels = ReadText(image);
     if (v == 0) reference = pixels;
     EXPECT_TRUE(pixels == reference) << variants[v];

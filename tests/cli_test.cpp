@@ -129,6 +129,8 @@ TEST(CliParse, EnumValues) {
   EXPECT_EQ(with("--bvh", "wide").bvhLayout, BvhLayout::kWide);
   EXPECT_EQ(with("--bvh-build", "sah").bvhBuilder, BvhBuilder::kSah);
   EXPECT_EQ(with("--bvh-build", "sbvh").bvhBuilder, BvhBuilder::kSbvh);
+  EXPECT_EQ(with("--bvh-build", "gpu").bvhBuilder, BvhBuilder::kLbvh);
+  EXPECT_EQ(with("--bvh-build", "auto").bvhBuilder, BvhBuilder::kAuto);
   EXPECT_EQ(with("--rr-depth", "off").rrDepth, kRussianRouletteOff);
   EXPECT_EQ(with("--rr-depth", "0").rrDepth, 0);
 }

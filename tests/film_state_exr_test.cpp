@@ -34,6 +34,8 @@ FilmState RandomFilm(uint32_t w, uint32_t h, bool doubleFilm, bool features) {
       f.albedoSum.push_back(vec3(float(u(rng)), float(u(rng)), float(u(rng))));
       f.normalSum.push_back(vec3(float(u(rng)), -float(u(rng)), float(u(rng))));
       f.depthSum.push_back(float(u(rng)));
+      f.evenSum.push_back(vec3(float(u(rng)), float(u(rng)), float(u(rng))));  // --denoise's
+      f.evenCount.push_back(f.count.back() / 2 + 1);
     }
   }
   return f;
@@ -60,6 +62,8 @@ TEST(FilmStateExr, TheStateComesBackBitForBit) {
       EXPECT_TRUE(test::BitIdentical(back.film.albedoSum, film.albedoSum));
       EXPECT_TRUE(test::BitIdentical(back.film.normalSum, film.normalSum));
       EXPECT_TRUE(test::BitIdentical(back.film.depthSum, film.depthSum));
+      EXPECT_TRUE(test::BitIdentical(back.film.evenSum, film.evenSum));
+      EXPECT_EQ(back.film.evenCount, film.evenCount);
       // The image a viewer sees is there too.
       int w = 0, h = 0;
       std::vector<float> rgb;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "src/io/scene_loader.h"
+#include "tests/cli_parse_util.h"
 #include "tests/cli_test_util.h"
 #include "tests/gltf_scene_writer.h"
 #include "tests/test_util.h"
@@ -291,6 +292,20 @@ TEST(GltfAnimation, JsonSceneIncludesTakeTimeAndAnimation) {
   cli.time = 1.5;
   ExpectNear(NodeOffsets(LoadSceneFromString(json, "anim.json", dir, cli))[0], vec3(2, 2, 0), 1e-6f,
              "--time replaces it");
+}
+
+TEST(GltfAnimation, CommandLineTakesTimeAndAnimation) {
+  CliOptions o = test::Parse({"s.glb", "-o", "x.png", "--time", "-0.5", "--animation=Run"});
+  ASSERT_TRUE(o.time.has_value());
+  EXPECT_EQ(*o.time, -0.5);  // before the clip: clamped by the loader, not refused here
+  EXPECT_EQ(o.animation, "Run");
+  EXPECT_FALSE(test::Parse({"s.glb", "-o", "x.png", "--time-limit", "3"}).time.has_value());
+  EXPECT_EQ(test::ParseError({"s.glb", "-o", "x.png", "--time", "soon"}),
+            "bad number for --time: 'soon' (expected seconds)");
+  EXPECT_EQ(test::ParseError({"s.glb", "-o", "x.png", "--time", "inf"}),
+            "bad number for --time: 'inf' (expected seconds)");
+  EXPECT_EQ(test::ParseError({"s.glb", "-o", "x.png", "--animation="}),
+            "empty animation for --animation (an index or a name)");
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "src/scene/effects.h"
 #include "tests/albedo_quadrature.h"
+#include "tests/cli_test_util.h"
 #include "tests/gltf_extensions_scenes.h"
 #include "tests/layered_check_util.h"
 #include "tests/render_test_util.h"
@@ -19,7 +20,7 @@
 namespace pt::test {
 namespace {
 
-SceneSpec Small() {
+SceneSpec ExtSmall() {
   SceneSpec s;
   s.size = 8;
   s.spp = 64;
@@ -73,9 +74,9 @@ ImageMean MeanOf(const FilmImage& img) {
 void ExpectAlbedoRender(const std::string& what, ExtensionSceneSpec with, ExtensionSceneSpec without,
                         float mu, float minChange) {
   std::string dir = TempDir();
-  Scene scene = test::ExtensionScene(dir, with, Small());
+  Scene scene = test::ExtensionScene(dir, with, ExtSmall());
   ImageMean img = MeanOf(RenderOnCpu(scene).image);
-  ImageMean control = MeanOf(RenderOnCpu(test::ExtensionScene(dir, without, Small())).image);
+  ImageMean control = MeanOf(RenderOnCpu(test::ExtensionScene(dir, without, ExtSmall())).image);
   LayeredMaterial m = MaterialOf(scene);
   float change = 0.0f;
   std::array<test::MeanEstimate, 3> albedo = test::LayeredAlbedoRgb(m, test::View(mu), 77, 200000);
@@ -88,7 +89,7 @@ void ExpectAlbedoRender(const std::string& what, ExtensionSceneSpec with, Extens
   EXPECT_GT(change, minChange) << what << ": the extension changes the image too little";
 }
 
-ExtensionSceneSpec Spec(const std::string& name, const std::string& material, double theta = 0.0) {
+ExtensionSceneSpec ExtSpec(const std::string& name, const std::string& material, double theta = 0.0) {
   ExtensionSceneSpec s;
   s.name = name;
   s.material = material;
@@ -97,28 +98,28 @@ ExtensionSceneSpec Spec(const std::string& name, const std::string& material, do
 }
 
 TEST(GltfExtensionsRender, ClearcoatAddsItsReflection) {
-  ExpectAlbedoRender("clearcoat", Spec("cc1", test::ClearcoatMaterial(true), 60.0),
-                     Spec("cc0", test::ClearcoatMaterial(false), 60.0), 0.5f, 0.03f);
+  ExpectAlbedoRender("clearcoat", ExtSpec("cc1", test::ClearcoatMaterial(true), 60.0),
+                     ExtSpec("cc0", test::ClearcoatMaterial(false), 60.0), 0.5f, 0.03f);
 }
 
 TEST(GltfExtensionsRender, SpecularColourRaisesF0) {
-  ExpectAlbedoRender("specular", Spec("sp1", test::SpecularMaterial(true)),
-                     Spec("sp0", test::SpecularMaterial(false)), 1.0f, 0.05f);
+  ExpectAlbedoRender("specular", ExtSpec("sp1", test::SpecularMaterial(true)),
+                     ExtSpec("sp0", test::SpecularMaterial(false)), 1.0f, 0.05f);
 }
 
 TEST(GltfExtensionsRender, SheenReflectsAtGrazingViews) {
-  ExpectAlbedoRender("sheen", Spec("sh1", test::SheenMaterial(true), 70.0),
-                     Spec("sh0", test::SheenMaterial(false), 70.0), std::cos(70.0f * kPi / 180.0f),
+  ExpectAlbedoRender("sheen", ExtSpec("sh1", test::SheenMaterial(true), 70.0),
+                     ExtSpec("sh0", test::SheenMaterial(false), 70.0), std::cos(70.0f * kPi / 180.0f),
                      0.05f);
 }
 
 TEST(GltfExtensionsRender, IridescenceColoursTheReflection) {
-  ExpectAlbedoRender("iridescence", Spec("ir1", test::IridescenceMaterial(true)),
-                     Spec("ir0", test::IridescenceMaterial(false)), 1.0f, 0.02f);
+  ExpectAlbedoRender("iridescence", ExtSpec("ir1", test::IridescenceMaterial(true)),
+                     ExtSpec("ir0", test::IridescenceMaterial(false)), 1.0f, 0.02f);
 }
 
 TEST(GltfExtensionsRender, EnergyCompensationBrightensRoughMetal) {
-  ExtensionSceneSpec on = Spec("ec1", test::RoughWhiteMetal()), off = Spec("ec0", test::RoughWhiteMetal());
+  ExtensionSceneSpec on = ExtSpec("ec1", test::RoughWhiteMetal()), off = ExtSpec("ec0", test::RoughWhiteMetal());
   on.energyCompensation = true;
   ExpectAlbedoRender("energy compensation", on, off, 1.0f, 0.2f);
 }
@@ -129,9 +130,9 @@ TEST(GltfExtensionsRender, AnisotropyStretchesTheHighlightAlongItsDirection) {
   std::string dir = TempDir();
   vec3 travel = test::OffNormalLightDirection();
   auto render = [&](const std::string& name, const std::string& material) {
-    ExtensionSceneSpec s = Spec(name, material);
+    ExtensionSceneSpec s = ExtSpec(name, material);
     s.extra = test::DirectionalLight(travel);
-    Scene scene = test::ExtensionScene(dir, s, Small());
+    Scene scene = test::ExtensionScene(dir, s, ExtSmall());
     return std::make_pair(MeanOf(RenderOnCpu(scene).image), MaterialOf(scene));
   };
   auto [along, m] = render("an1", test::AnisotropyMaterial(true));
@@ -148,9 +149,9 @@ TEST(GltfExtensionsRender, AnisotropyStretchesTheHighlightAlongItsDirection) {
 TEST(GltfExtensionsRender, DiffuseTransmissionLetsLightThrough) {
   std::string dir = TempDir();
   auto render = [&](const std::string& name, bool with) {
-    ExtensionSceneSpec s = Spec(name, test::DiffuseTransmissionMaterial(with));
+    ExtensionSceneSpec s = ExtSpec(name, test::DiffuseTransmissionMaterial(with));
     s.extra = test::DirectionalLight(vec3(0, 0, 1));
-    Scene scene = test::ExtensionScene(dir, s, Small());
+    Scene scene = test::ExtensionScene(dir, s, ExtSmall());
     return std::make_pair(MeanOf(RenderOnCpu(scene).image), MaterialOf(scene));
   };
   auto [through, m] = render("dt1", true);
@@ -164,10 +165,10 @@ TEST(GltfExtensionsRender, DiffuseTransmissionLetsLightThrough) {
 // Unlit: the base colour, with no light at all; the lit control is black.
 TEST(GltfExtensionsRender, UnlitShowsItsBaseColour) {
   std::string dir = TempDir();
-  ExtensionSceneSpec with = Spec("ul1", test::UnlitMaterial(true)), without = Spec("ul0", test::UnlitMaterial(false));
+  ExtensionSceneSpec with = ExtSpec("ul1", test::UnlitMaterial(true)), without = ExtSpec("ul0", test::UnlitMaterial(false));
   with.extra = without.extra = "";
-  ImageMean img = MeanOf(RenderOnCpu(test::ExtensionScene(dir, with, Small())).image);
-  ImageMean dark = MeanOf(RenderOnCpu(test::ExtensionScene(dir, without, Small())).image);
+  ImageMean img = MeanOf(RenderOnCpu(test::ExtensionScene(dir, with, ExtSmall())).image);
+  ImageMean dark = MeanOf(RenderOnCpu(test::ExtensionScene(dir, without, ExtSmall())).image);
   vec3 base(0.2f, 0.6f, 0.9f);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.mean[c], base[c], 1e-5f);
   EXPECT_EQ(dark.mean, vec3(0.0f));
@@ -238,6 +239,22 @@ TEST(GltfExtensionsRender, UnknownVariantNamesTheFileFieldAndVariants) {
   }
 }
 
+// The command line: an unknown --variant is exit 2 naming the file, the field and the
+// variants, with nothing written; a known one renders; --energy-compensation takes off|on.
+TEST(GltfExtensionsRender, CommandLineVariantAndEnergyCompensation) {
+  std::string dir = TempDir();
+  std::string file = dir + "/" + VariantFile(dir);
+  ExpectRefusedWritingNothing(file, "--variant blue", dir);
+  std::string output;
+  RunPathtracer("'" + file + "' --variant blue --backend cpu -o " + dir + "/v.png", &output);
+  EXPECT_NE(output.find("--variant"), std::string::npos) << output;
+  EXPECT_NE(output.find("\"red\", \"green\""), std::string::npos) << output;
+  EXPECT_EQ(RunPathtracer("'" + file + "' --variant green --energy-compensation on --width 8 "
+                          "--height 8 --spp 1 --backend cpu --quiet -o " + dir + "/v.png", &output),
+            0) << output;
+  EXPECT_NE(RunPathtracer("'" + file + "' --energy-compensation maybe -o " + dir + "/v.png", &output), 0);
+}
+
 // ---- Effects and the variant that runs ----
 
 TEST(GltfExtensionsRender, ExtensionsNameTheirEffectsAndRunTheLayeredVariant) {
@@ -254,12 +271,12 @@ TEST(GltfExtensionsRender, ExtensionsNameTheirEffectsAndRunTheLayeredVariant) {
                {test::UnlitMaterial(true), kEffectUnlit}};
   int k = 0;
   for (const Case& c : cases) {
-    Scene s = test::ExtensionScene(dir, Spec("fx" + std::to_string(k++), c.material), Small());
+    Scene s = test::ExtensionScene(dir, ExtSpec("fx" + std::to_string(k++), c.material), ExtSmall());
     uint32_t e = AnalyzeEffects(s);
     EXPECT_TRUE(e & c.effect) << c.material;
     EXPECT_EQ(ChooseFeatureClass(e), FeatureClass::kLayered) << c.material;
   }
-  Scene plain = test::ExtensionScene(dir, Spec("fxp", test::ClearcoatMaterial(false)), Small());
+  Scene plain = test::ExtensionScene(dir, ExtSpec("fxp", test::ClearcoatMaterial(false)), ExtSmall());
   EXPECT_EQ(AnalyzeEffects(plain) & kLayeredEffects, 0u);
   EXPECT_EQ(ChooseFeatureClass(AnalyzeEffects(plain)), FeatureClass::kGeneral);
 }

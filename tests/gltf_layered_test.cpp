@@ -69,6 +69,12 @@ LayeredMaterial WithDiffuseTransmission(LayeredMaterial m, float dt, vec3 color)
   return m;
 }
 
+LayeredMaterial Transmissive(LayeredMaterial m, bool thin) {
+  m.transmission = 1.0f;
+  m.flags = thin ? kMaterialThinWalled : 0u;
+  return m;
+}
+
 // ---- The sheen lobe is the extension's formula ----
 
 double SpecSheen(double sheenRoughness, glm::dvec3 v, glm::dvec3 l) {
@@ -104,7 +110,7 @@ TEST(GltfLayeredTest, SheenLobeIsTheExtensionsFormula) {
 
 // ---- Sampling against the pdf ----
 
-std::vector<vec3> Views() {
+std::vector<vec3> LayeredViews() {
   return {vec3(0, 0, 1), glm::normalize(vec3(0.6f, 0.2f, 0.8f)),
           glm::normalize(vec3(-0.95f, 0.1f, 0.12f)), glm::normalize(vec3(0.3f, -0.4f, -0.866f))};
 }
@@ -120,6 +126,7 @@ std::vector<LayeredMaterial> SamplingCases() {
           WithAnisotropy(LayeredPbr(base, 1.0f, 0.3f), 0.8f, 0.7f),
           WithAnisotropy(WithSpecular(LayeredPbr(base, 0.0f, 0.4f), 0.7f, vec3(1.5f, 1, 0.5f)), 0.5f, 2.0f),
           WithIridescence(LayeredPbr(base, 0.3f, 0.4f), 1.0f, 500.0f),
+          WithIridescence(Transmissive(LayeredPbr(base, 0.0f, 0.4f), true), 1.0f, 400.0f),
           WithDiffuseTransmission(LayeredPbr(base, 0.0f, 0.5f), 0.6f, vec3(0.2f, 0.9f, 0.4f)),
           compensated};
 }
@@ -128,7 +135,7 @@ TEST(GltfLayeredTest, SamplingMatchesPdf) {
   uint32_t seed = 500;
   for (const LayeredMaterial& m : SamplingCases()) {
     ASSERT_TRUE(LayeredHasNonDeltaLobe(m)) << test::DescribeLayered(m, vec3(0, 0, 1));
-    for (vec3 wo : Views()) test::CheckLayeredLobe(m, wo, seed++, 25000);
+    for (vec3 wo : LayeredViews()) test::CheckLayeredLobe(m, wo, seed++, 25000);
   }
 }
 
@@ -150,6 +157,8 @@ std::vector<LayeredMaterial> FurnaceCases(float roughness) {
           WithAnisotropy(LayeredPbr(white, 0.0f, roughness), 1.0f, 0.3f),
           WithIridescence(LayeredPbr(white, 0.0f, roughness), 1.0f, 300.0f),
           WithIridescence(LayeredPbr(white, 1.0f, roughness), 1.0f, 700.0f),
+          WithIridescence(Transmissive(LayeredPbr(white, 0.0f, roughness), true), 1.0f, 400.0f),
+          WithIridescence(Transmissive(LayeredPbr(white, 0.0f, roughness), false), 1.0f, 400.0f),
           WithDiffuseTransmission(LayeredPbr(white, 0.0f, roughness), 1.0f, white),
           everything, compensated};
 }
@@ -260,6 +269,10 @@ TEST(GltfLayeredTest, AnisotropyZeroIsTheIsotropicLobe) {
   // brighter than one 30 degrees off across it.
   vec3 wo = View(1.0f), along = glm::normalize(vec3(0.5f, 0.0f, 0.866f)), across(0.0f, 0.5f, 0.866f);
   EXPECT_GT(EvalLayeredBsdf(strong, wo, along).x, 5.0f * EvalLayeredBsdf(strong, wo, across).x);
+  // A mirror made anisotropic is a rough lobe, stretched along the direction: a white one still
+  // reflects nearly everything (AnisotropyStrengthTest's first column).
+  LayeredMaterial mirror = WithAnisotropy(LayeredPbr(vec3(1.0f), 1.0f, 0.0f), 0.5f, 0.0f);
+  EXPECT_GT(LayeredAlbedo(mirror, View(0.8f), 57, 4000).mean, 0.8);
 }
 
 // dt = 1: the base's light all goes through, tinted by the transmission colour.

@@ -57,7 +57,8 @@ TEST(LightBvh, EveryLightsPmfIsTheProductAlongItsPath) {
   for (int n : {1, 2, 3, 5, 17, 64, 300}) {
     LightTestScene ls = RandomLights(n, 10 + n);
     ASSERT_EQ(ls.scene.lightTree.boundedCount, uint32_t(n));
-    ASSERT_EQ(ls.scene.lightTree.nodeCount, uint32_t(2 * n - 1)) << "one light per leaf";
+    // One light per leaf, plus node 1 (padding: siblings start at even indices).
+    ASSERT_EQ(ls.scene.lightTree.nodeCount, uint32_t(2 * n)) << "one light per leaf";
     for (const LightRef& r : RandomRefs(30, n)) {
       std::map<uint32_t, double> expected;
       double mass = 0.0;
@@ -175,6 +176,41 @@ TEST(LightBvh, DeepTreesKeepTheirFrequencies) {
   }
   ChiSquareResult chi = PearsonChiSquare(observed, expected, kDraws, 5.0);
   EXPECT_GT(chi.pValue, kChiSquareAlpha) << chi.message;
+}
+
+// The exact culls: a flat node gives 0 to a point just behind its lights, which the cone
+// bound alone does not, yet never to a point in front of them, even at a grazing angle that
+// the rounding of its axis would put behind; a box wholly below a one-sided receiver gives 0.
+TEST(LightBvh, FlatNodesAndReceiverHorizonCullOnlyWhatGetsNoLight) {
+  LightBounds b;  // a one-sided 1 x 1 quad at y = 2 facing down
+  b.lo = vec3(-0.5f, 2.0f, -0.5f);
+  b.hi = vec3(0.5f, 2.0f, 0.5f);
+  b.w = vec3(0.0f, -1.0f, 0.0f);
+  b.phi = 1.0f;
+  b.cosTheta_o = 1.0f;
+  b.cosTheta_e = 0.0f;
+  LightRef behind, front;
+  behind.p = vec3(0.3f, 2.05f, 0.0f);
+  front.p = vec3(0.3f, 1.95f, 0.0f);
+  EXPECT_GT(LightImportance(b, behind), 0.0f) << "the cone bound alone keeps it";
+  b.flat = true;
+  EXPECT_EQ(LightImportance(b, behind), 0.0f);
+  EXPECT_GT(LightImportance(b, front), 0.0f);
+  // The axis rounded 1e-4 rad off the lights' normal; a point 1e-5 in front of their plane,
+  // 3.5 away, is lit at a grazing angle.
+  b.w = glm::normalize(vec3(-1e-4f, -1.0f, 0.0f));
+  LightRef grazing;
+  grazing.p = vec3(3.5f, 2.0f - 1e-5f, 0.0f);
+  EXPECT_GT(LightImportance(b, grazing), 0.0f);
+  LightRef up, down;
+  up.p = down.p = vec3(0.0f, 1.0f, 0.0f);
+  up.n = vec3(0.0f, 1.0f, 0.0f);
+  down.n = vec3(0.0f, -1.0f, 0.0f);
+  up.twoSided = down.twoSided = false;
+  EXPECT_GT(LightImportance(b, up), 0.0f);
+  EXPECT_EQ(LightImportance(b, down), 0.0f);
+  down.twoSided = true;
+  EXPECT_GT(LightImportance(b, down), 0.0f);
 }
 
 // A leaf's importance bounds its light: wherever some point of the light faces the receiver

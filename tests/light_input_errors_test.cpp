@@ -23,6 +23,10 @@ std::string SceneWithLight(const std::string& light, const std::string& lamp = "
     "lights": [)" + light + "]}";
 }
 
+std::string Point(const std::string& intensity) {
+  return R"({"type": "point", "position": [0, 1, 0], "intensity": )" + intensity + "}";
+}
+
 // Refused with exit 2, nothing written, and the message names `field`.
 void ExpectRefused(const std::string& dir, const std::string& name, const std::string& text,
                    const std::string& field) {
@@ -38,13 +42,13 @@ TEST(LightInputErrors, JsonScenesRefuseBadLights) {
   const std::string spot = R"({"type": "spot", "position": [0, 2, 0], "direction": [0, -1, 0],
                                 "intensity": [1, 1, 1], )";
   ExpectRefused(dir, "neg_point.json",
-                SceneWithLight(R"({"type": "point", "position": [0, 1, 0], "intensity": [1, -1, 1]})"),
+                SceneWithLight(Point("[1, -1, 1]")),
                 "lights[0].intensity[1]");
   ExpectRefused(dir, "huge_point.json",
-                SceneWithLight(R"({"type": "point", "position": [0, 1, 0], "intensity": [1e39, 1, 1]})"),
+                SceneWithLight(Point("[1e39, 1, 1]")),
                 "lights[0].intensity[0]");
   ExpectRefused(dir, "nan_point.json",
-                SceneWithLight(R"({"type": "point", "position": [0, 1, 0], "intensity": [NaN, 1, 1]})"),
+                SceneWithLight(Point("[NaN, 1, 1]")),
                 "nan_point.json");
   ExpectRefused(dir, "neg_spot.json",
                 SceneWithLight(R"({"type": "spot", "position": [0, 2, 0], "direction": [0, -1, 0],
@@ -62,7 +66,7 @@ TEST(LightInputErrors, JsonScenesRefuseBadLights) {
                                    "intensity": [1, 1, 1]})"),
                 "lights[0].direction");
   ExpectRefused(dir, "neg_lamp.json",
-                SceneWithLight(R"({"type": "point", "position": [0, 1, 0], "intensity": [1, 1, 1]})",
+                SceneWithLight(Point("[1, 1, 1]"),
                                "[4, -1, 4]"),
                 "materials.lamp.radiance[1]");
   ExpectRefused(dir, "neg_sun.json",

@@ -85,6 +85,12 @@ TEST_F(LightingDefaultsRun, TheEnvironmentLightsAFileWithItsOwnLight) {
   EXPECT_GT(Image()[3 * (8 * 24 + 12)], 0.1f);
   EXPECT_EQ(out.find("nearly black"), std::string::npos) << out;
 
+  // The live preview edits JSON documents: a model file is refused clearly, nothing served.
+  ASSERT_EQ(RunCommand(BinaryPath("pathtracer") + " " + behind + " --serve 0 --backend cpu", &out),
+            2) << out;
+  EXPECT_NE(out.find("--serve previews JSON scenes: include the model in one as"),
+            std::string::npos) << out;
+
   // No light at all and no environment.
   ASSERT_EQ(Run(WriteLitSquareModel(dir_.path, "unlit", false, false), "--env none", &out), 0) << out;
   EXPECT_NE(out.find("likely cause: nothing lights the scene (--env none removed the "

@@ -113,6 +113,13 @@ TEST(MediaErrors, GridSources) {
   ExpectMediaError(MediaScene(R"("c": {"type": "grid", "file": "no_such.vdb",
                                 "sigma_a": [0, 0, 0], "sigma_s": [1, 1, 1]})", "[]"),
                    "media.c.file", "no_such.vdb\": no such file");
+  ExpectMediaError(MediaScene(R"("c": {"type": "grid", "procedural": {"shape": "cloud"},
+                                "emission": [1, 1, 1], "emission_grid": "temperature",
+                                "sigma_a": [1, 1, 1], "sigma_s": [1, 1, 1]})", "[]"),
+                   "media.c.emission_grid", "this medium is procedural");
+  ExpectMediaError(MediaScene(R"("c": {"type": "homogeneous", "emission": [1, -1, 1],
+                                "sigma_a": [1, 1, 1], "sigma_s": [1, 1, 1]})", "[]"),
+                   "media.c.emission[1]", "must be >= 0");
   ExpectMediaError(MediaScene(R"("c": {"type": "grid", "procedural": {"shape": "torus"},
                                 "sigma_a": [0, 0, 0], "sigma_s": [1, 1, 1]})", "[]"),
                    "media.c.procedural.shape", "unknown procedural grid");

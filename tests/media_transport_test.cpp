@@ -6,6 +6,8 @@
 //    shadow-ray estimators, grey and chromatic (spectral MIS over the hero channel);
 //  - white furnace: non-absorbing media in a white environment of radiance 1 give 1 whatever
 //    their scattering coefficients (chromatic included), with the camera outside or inside;
+//  - emission seen along the camera ray before any scattering (max_depth 0):
+//      L = Le sigma_a / sigma_t (1 - exp(-sigma_t d));
 //  - chromatic media: each channel of a chromatic medium equals a grey render of that
 //    channel's coefficients.
 // Tolerances: z = 3.89 (two-sided p = 1e-4) times the standard error the film measures.
@@ -69,6 +71,23 @@ TEST(MediaTransport, SlabTransmittanceIsExpMinusSigmaTD) {
     RenderResult r = test::RenderOnCpu(test::SceneFromJson(json));
     for (int c = 0; c < 3; ++c)
       ExpectMeanNear(r.image, c, std::exp(-double(sigmaA[c]) * d), "sigma_a " + MediaVec(sigmaA));
+  }
+}
+
+TEST(MediaTransport, EmissionBeforeTheFirstScatteringMatchesTheClosedForm) {
+  const float d = 0.7f;
+  const vec3 le(1.0f, 2.0f, 4.0f);
+  for (vec3 sigmaS : {vec3(0.0f), vec3(0.6f, 0.1f, 1.5f)}) {
+    const vec3 sigmaA(0.5f, 1.2f, 0.3f);
+    std::string medium = R"({"type": "homogeneous", "sigma_a": )" + MediaVec(sigmaA) +
+                         R"(, "sigma_s": )" + MediaVec(sigmaS) + R"(, "emission": )" +
+                         MediaVec(le) + "}";
+    RenderResult r = test::RenderOnCpu(test::SceneFromJson(SlabScene(medium, d, 0, 128, "")));
+    for (int c = 0; c < 3; ++c) {
+      double sigmaT = sigmaA[c] + sigmaS[c];
+      ExpectMeanNear(r.image, c, le[c] * sigmaA[c] / sigmaT * (1.0 - std::exp(-sigmaT * d)),
+                     "emission, sigma_s " + MediaVec(sigmaS));
+    }
   }
 }
 

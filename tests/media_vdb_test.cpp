@@ -71,6 +71,34 @@ TEST(MediaVdb, WrittenGridReadsBackAndRendersAsTheProcedural) {
   EXPECT_GT(a.stats.stages.medium, 0.0);
 }
 
+// An emission grid of the file scales the medium's emission: a constant density (1) and a
+// constant "temperature" (2) slab glows as Le 2 sigma_a / sigma_t (1 - exp(-sigma_t d)).
+TEST(MediaVdb, EmissionGridScalesTheEmission) {
+  if (!VdbSupported()) GTEST_SKIP() << "built without OpenVDB";
+  std::string dir = test::TempDir();
+  const double d = 0.5;
+  glm::dmat4 toWorld(1.0 / 8.0);  // index [0, 8] -> the unit cube, centred
+  toWorld[3] = glm::dvec4(-0.5, -0.5, -0.5, 1.0);
+  SparseGrid density = MakeConstantGrid(glm::ivec3(9), 1.0f, toWorld);
+  SparseGrid temperature = MakeConstantGrid(glm::ivec3(9), 2.0f, toWorld);
+  WriteVdbGrids(dir + "/glow.vdb", {{"density", &density}, {"temperature", &temperature}});
+  std::string json = R"({"render": {"width": 8, "height": 8, "spp": 128, "max_depth": 0},
+    "camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_y": 1},
+    "materials": {},
+    "media": {"glow": {"type": "grid", "file": "glow.vdb", "emission_grid": "temperature",
+      "sigma_a": [1, 1, 1], "sigma_s": [0.5, 0.5, 0.5], "emission": [1, 0.5, 0.25],
+      "transform": {"scale": [200, 200, 0.5], "translate": [0, 0, -0.25]}}},
+    "objects": [{"type": "box", "min": [-100, -100, -0.5], "max": [100, 100, 0],
+      "material": "interface", "interior": "glow"}]})";
+  RenderResult r = test::RenderOnCpu(BuildScene(LoadSceneFromString(json, "s.json", dir)));
+  const double le[3] = {1.0, 0.5, 0.25};
+  for (int c = 0; c < 3; ++c) {
+    test::WindowMean m = test::MeanOverImage(r.image, c);
+    double expected = 2.0 * le[c] * (1.0 / 1.5) * (1.0 - std::exp(-1.5 * d));
+    EXPECT_NEAR(m.mean, expected, test::kZ1e4 * std::sqrt(m.varianceOfMean)) << "channel " << c;
+  }
+}
+
 TEST(MediaVdb, MissingOrNonFloatGridsAreRefused) {
   if (!VdbSupported()) GTEST_SKIP() << "built without OpenVDB";
 #ifdef PT_HAVE_OPENVDB

@@ -43,7 +43,8 @@ inline bool SameFilm(const FilmState& a, const FilmState& b) {
          BitIdentical(a.m2, b.m2) && BitIdentical(a.lumMean, b.lumMean) &&
          BitIdentical(a.lumM2, b.lumM2) && BitIdentical(a.count, b.count) &&
          BitIdentical(a.albedoSum, b.albedoSum) && BitIdentical(a.normalSum, b.normalSum) &&
-         BitIdentical(a.depthSum, b.depthSum);
+         BitIdentical(a.depthSum, b.depthSum) && BitIdentical(a.evenSum, b.evenSum) &&
+         BitIdentical(a.evenCount, b.evenCount);
 }
 
 inline RenderResult RenderOnCpu(const Scene& scene, RenderOptions options = {}) {

@@ -50,15 +50,16 @@ TEST(ShadingNormalsGpu, TextureFootprintFollowsTheSampleCountOnBothBackends) {
     spec.size = 32;
     spec.spp = spp;
     spec.seed = 5;
+    // The same seed on both backends: the same samples, so the windows differ only where the
+    // backends' texel reads do (an independent seed's noise exceeded the 1-spp bound on an H100).
     Scene a = PixelCheckerScene(dir, spec);
-    spec.seed = 6;
     Scene b = PixelCheckerScene(dir, spec);
     ASSERT_EQ(a.camera.textureFootprint, b.camera.textureFootprint);
     FilmImage cpu = RenderOnCpu(a).image, gpu = RenderCuda(b, {}).image;
-    // Emission only: each sample is a texture lookup, the windows' means agree within noise
-    // (1 spp: the films' variances are unknown, so 2% of the mean stands in for them).
-    ExpectWindowsAgree(cpu, gpu, BlockWindows(cpu, 4), "pixel checker",
-                       spp == 1 ? 2e-2 : 2e-3);
+    // Emission only: each sample is a texture lookup at the same point on both backends, so
+    // the windows' means agree up to the GPU's rounding (a different footprint moves them by
+    // the contrast differences the CPU test measures, 0.2-0.3).
+    ExpectWindowsAgree(cpu, gpu, BlockWindows(cpu, 4), "pixel checker", 2e-3);
   }
 }
 

@@ -271,6 +271,7 @@ int main(int argc, char** argv) {
       args.builders.clear();
       if (v == "sah" || v == "all") args.builders.push_back(BvhBuilder::kSah);
       if (v == "sbvh" || v == "all") args.builders.push_back(BvhBuilder::kSbvh);
+      if (v == "gpu" || v == "all") args.builders.push_back(BvhBuilder::kLbvh);  // host threads
     } else if (a[0] != '-') args.scene = a;
     else { std::fprintf(stderr, "bvh_bench: unknown option %s\n", a.c_str()); return 1; }
   }

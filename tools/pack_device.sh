@@ -11,10 +11,12 @@ for tool in make_mesh_glb make_sky make_vdb instance_bench image_compare; do
   [ -f "$BUILD/$tool" ] && cp "$BUILD/$tool" .device/bin/
 done
 for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
+  # Every Debian library but the C/C++ runtime (the GPU machine's own) and Open MPI's
+  # (pack_mpi.sh carries those): glTF, image, Draco, meshopt, WebP, OpenVDB and their needs.
   case "$(basename "$lib")" in
-    libtiny*|libstb*|libminiz*|libcpp-httplib*|libbrotli*) cp -L "$lib" .device/bin/lib/ ;;
-    # OpenVDB (grid media) and what it loads.
-    libopenvdb*|libImath*|libtbb*|libblosc*|libboost_iostreams*|liblog4cplus*|libsnappy*|liblz4*) cp -L "$lib" .device/bin/lib/ ;;
+    libc.so*|libm.so*|libgcc_s*|libstdc++*|ld-linux*|libmpi*|libopen-rte*|libopen-pal*) ;;
+    libhwloc*|libevent*|libudev*) ;;
+    *) cp -L "$lib" .device/bin/lib/ ;;
   esac
 done
 # A build with MPI carries Debian's Open MPI runtime (relocatable: .device/mpi/env.sh).

@@ -34,7 +34,13 @@ JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 EXCLUDE="${PT_SANITIZE_EXCLUDE-^MalformedScenes\.CliExitsTwoAndWritesNothing$}"
 
 START=$(date +%s)
-cmake -S "$ROOT" -B "$BUILD" -G Ninja -DPT_SANITIZE=ON -DPT_ENABLE_CUDA=OFF -DPT_ENABLE_MPI=OFF \
+# Unix Makefiles (CMake's default, what most users build with) here, Ninja in the main build:
+# CI builds with both generators. A build-asan/ left by an earlier Ninja configuration is
+# started afresh (CMake refuses to switch a build tree's generator).
+if [ -f "$BUILD/CMakeCache.txt" ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Unix Makefiles$' "$BUILD/CMakeCache.txt"; then
+  rm -rf "$BUILD"
+fi
+cmake -S "$ROOT" -B "$BUILD" -G "Unix Makefiles" -DPT_SANITIZE=ON -DPT_ENABLE_CUDA=OFF -DPT_ENABLE_MPI=OFF \
   -DPT_HOST_ISA=baseline \
   -DCMAKE_BUILD_TYPE=Asan -DCMAKE_CXX_FLAGS_ASAN="-O1 -g1 -fno-omit-frame-pointer" >/dev/null
 # The suite and what it runs (pathtracer, make_mesh_glb, make_sky), not the benchmark tools.

@@ -200,6 +200,8 @@ function showProgress(s) {
     $('s-rebuilds').textContent = `${r.scene} / ${r.top_level}` +
         (r.scene + r.top_level > 0 ? ` (last ${r.last_ms.toFixed(1)} ms)` : '');
   }
+  // The denoiser's time on the frame shown; "off" when the frame is not denoised (coarse ones never are).
+  $('s-denoise').textContent = s.denoise_ms === undefined ? 'off' : s.denoise_ms.toFixed(1);
   showStages(s.stage_ms);
 }
 
@@ -249,6 +251,7 @@ function applyScene(next) {
   const denoise = Boolean(scene.options.denoise_available);
   $('f-denoise-row').hidden = !denoise;
   $('denoise-key').hidden = !denoise;
+  $('s-denoise-row').hidden = !denoise;
   if (first) fitView();
   if (state) applyState(state, true);
   refreshMaterialForm();

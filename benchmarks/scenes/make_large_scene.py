@@ -22,7 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--bunnies", type=int, default=44, help="how many bunnies (at most 44)")
+    parser.add_argument("--bunnies", type=int, default=44, help="how many bunnies (at most 144)")
     parser.add_argument("--out", help="output file (default: breakfast_room_bunnies.json here)")
     args = parser.parse_args()
     with open(os.path.join(HERE, "breakfast_room.json")) as f:
@@ -37,12 +37,17 @@ def main():
                 o["file"] = os.path.normpath(os.path.join(HERE, o["file"]))
     objects = scene["objects"]
     count = 0
-    # A jittered grid over the floor in front of the camera (x -4..3, z -3..6; floor y = 0).
-    for i in range(11):
-        for j in range(4):
-            scale = rng.uniform(2.5, 7.0)
-            x = -4.0 + 7.0 * (i + rng.uniform(0.2, 0.8)) / 11
-            z = -3.0 + 9.0 * (j + rng.uniform(0.2, 0.8)) / 4
+    # A jittered grid over the floor in front of the camera (x -4..3, z -3..6; floor y = 0):
+    # 11 x 4 cells, or 12 x 12 smaller ones past 44 bunnies (--bunnies 141: 10,062,129
+    # triangles, the 10M+ scene of issue 28).
+    cols, rows = (11, 4) if args.bunnies <= 44 else (12, 12)
+    if args.bunnies > cols * rows:
+        parser.error("at most %d bunnies" % (cols * rows))
+    for i in range(cols):
+        for j in range(rows):
+            scale = rng.uniform(2.5, 7.0) * (1.0 if rows == 4 else 0.6)
+            x = -4.0 + 7.0 * (i + rng.uniform(0.2, 0.8)) / cols
+            z = -3.0 + 9.0 * (j + rng.uniform(0.2, 0.8)) / rows
             objects.append({
                 "type": "mesh", "file": bunny, "material": "white",
                 "transform": {"scale": round(scale, 3), "rotate": [0, round(rng.uniform(0, 360), 1), 0],

@@ -2,15 +2,15 @@
 """Writes the many-light benchmark scenes (the light BVH, issue 30): nothing but many small
 emitters lights them, so how next-event estimation chooses a light decides the noise.
 
-  city      a generated city block at night: a grid of box buildings whose faces carry
-            lit windows (small one-sided emissive quads facing out, in a few warm and cool
-            tints), street lamps (small emissive spheres) along the streets, a faint sky.
-            --windows N windows in all (default 50,000).
+  city      a generated city block at night: a grid of 100 box buildings, the streets
+            between them lined with festoons of small downward-facing lamps (one-sided
+            emissive quads in a few tints, brightness over a decade), a faint sky, seen from
+            above. --lamps N lamps in all (default 20,000).
   breakfast the Breakfast Room (../shared/assets/dining-room-bitterli, 269,538 triangles,
             one diffuse material) hung with strings of fairy lights: --bulbs N small emissive
             spheres (default 10,000) on sagging strings across the room, and no other light.
 
-  python3 benchmarks/scenes/make_many_lights.py city [--windows N] [OUT.json]
+  python3 benchmarks/scenes/make_many_lights.py city [--lamps N] [OUT.json]
   python3 benchmarks/scenes/make_many_lights.py breakfast [--bulbs N] [OUT.json]
 
 Default OUT: benchmarks/scenes/many_lights_city.json / many_lights_breakfast.json (generated,
@@ -37,7 +37,7 @@ def city(args):
     blocks, street, lot = 10, 8.0, 14.0  # 10 x 10 buildings, streets 8 wide
     extent = blocks * (lot + street)
     objects = [quad([-extent / 2, 0, -extent / 2], [0, 0, extent], [extent, 0, 0], "asphalt")]
-    buildings = []
+    buildings, lamps = [], set()
     for i in range(blocks):
         for j in range(blocks):
             x0 = -extent / 2 + street / 2 + i * (lot + street)
@@ -47,49 +47,42 @@ def city(args):
             buildings.append((x0, z0, w, d, h))
             objects.append({"type": "box", "min": [x0, 0, z0], "max": [x0 + w, h, z0 + d],
                             "material": "concrete"})
-    # Window slots on every face, 1 m apart, 2.5 m per storey; a share of them lit.
-    slots = []
-    for (x0, z0, w, d, h) in buildings:
-        for face in range(4):
-            length = w if face < 2 else d
-            cols, rows = int(length / 1.0), int(h / 2.5)
-            for c in range(cols):
-                for r in range(rows):
-                    slots.append((x0, z0, w, d, face, c, r))
-    rng.shuffle(slots)
-    eps = 0.02  # off the wall, so the window is not inside the box
-    for (x0, z0, w, d, face, c, r) in slots[:args.windows]:
-        y = 2.5 * r + 0.9
-        a = 1.0 * c + 0.2
-        tint = rng.choices(list(TINTS)[:3], weights=[6, 2, 2])[0]
-        # One-sided quads facing out of the building: normal = cross(u, v).
-        if face == 0:    # z = z0 face, normal -z
-            objects.append(quad([x0 + a, y, z0 - eps], [0, 1.0, 0], [0.6, 0, 0], tint))
-        elif face == 1:  # z = z0 + d face, normal +z
-            objects.append(quad([x0 + a, y, z0 + d + eps], [0.6, 0, 0], [0, 1.0, 0], tint))
-        elif face == 2:  # x = x0 face, normal -x
-            objects.append(quad([x0 - eps, y, z0 + a], [0, 0, 0.6], [0, 1.0, 0], tint))
-        else:            # x = x0 + w face, normal +x
-            objects.append(quad([x0 + w + eps, y, z0 + a], [0, 1.0, 0], [0, 0, 0.6], tint))
-    # Street lamps every 10 m along the streets between the blocks.
+    # Festoons along both sides of every street, 1.5 m in front of the building line and 5 m
+    # up: small one-sided lamps facing down (from above they show their dark backs, so the
+    # picture's noise is that of the light they cast), brightness and tint varying.
+    lines = []
     for k in range(blocks + 1):
-        s = -extent / 2 + k * (lot + street)
-        t = -extent / 2
-        while t < extent / 2:
-            for (x, z) in ((s, t), (t, s)):
-                objects.append({"type": "sphere", "center": [x + 1.5, 7.0, z + 1.5],
-                                "radius": 0.25, "material": "sodium"})
-            t += 10.0
-    materials = {"asphalt": {"type": "diffuse", "albedo": [0.12, 0.12, 0.13]},
+        centre = -extent / 2 + k * (lot + street)
+        for side in (-1.0, 1.0):
+            off = centre + side * (street / 2 - 1.5)
+            if -extent / 2 < off < extent / 2:
+                lines.append(("x", off))
+                lines.append(("z", off))
+    spacing = len(lines) * extent / args.lamps
+    size = 0.3
+    for axis, off in lines:
+        t = -extent / 2 + spacing / 2
+        while t < extent / 2 - size:
+            tint = rng.choices(list(TINTS), weights=[5, 2, 2, 1])[0]
+            scale = round(rng.uniform(0.3, 3.0), 3)
+            name = "%s_%d" % (tint, int(scale * 2))
+            x, z = (t, off) if axis == "x" else (off, t)
+            # normal = cross(u, v) = -y
+            objects.append(quad([x, 5.0, z], [size, 0, 0], [0, 0, size], name))
+            lamps.add(name)
+            t += spacing
+    materials = {"asphalt": {"type": "diffuse", "albedo": [0.25, 0.25, 0.26]},
                  "concrete": {"type": "diffuse", "albedo": [0.45, 0.43, 0.4]}}
-    for name, radiance in TINTS.items():
-        materials[name] = {"type": "emissive", "radiance": radiance}
+    for name in sorted(lamps):
+        tint, level = name.rsplit("_", 1)
+        scale = 4.0 * (int(level) + 1) / 2.0
+        materials[name] = {"type": "emissive", "radiance": [c * scale for c in TINTS[tint]]}
     return {
         "format": 1,
         "render": {"width": 960, "height": 540, "spp": 64, "max_depth": 6, "seed": 1},
-        "camera": {"position": [-extent * 0.18, 5.5, extent * 0.62],
-                   "look_at": [extent * 0.05, 14.0, -extent * 0.1], "up": [0, 1, 0],
-                   "fov_y": 55},
+        # From high above, looking down into the lit streets.
+        "camera": {"position": [0.0, extent * 1.1, extent * 0.35], "look_at": [0, 0, 0],
+                   "up": [0, 1, 0], "fov_y": 40},
         "background": [0.002, 0.003, 0.006],
         "materials": materials,
         "objects": objects,
@@ -131,7 +124,7 @@ def breakfast(args):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("scene", choices=["city", "breakfast"])
-    p.add_argument("--windows", type=int, default=50000)
+    p.add_argument("--lamps", type=int, default=20000)
     p.add_argument("--bulbs", type=int, default=10000)
     p.add_argument("out", nargs="?", default=None)
     args = p.parse_args()
@@ -144,7 +137,8 @@ def main():
     with open(out, "w") as f:
         json.dump(scene, f, separators=(",", ":"))
         f.write("\n")
-    lights = sum(1 for o in scene["objects"] if o["material"] in TINTS)
+    lights = sum(1 for o in scene["objects"]
+                 if scene["materials"][o["material"]]["type"] == "emissive")
     print("%s: %d emitters, %d objects" % (out, lights, len(scene["objects"])))
 
 

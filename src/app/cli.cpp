@@ -291,7 +291,8 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
       {"--bvh-build",
        [](CliOptions& o, ValueSource& s) {
          o.bvhBuilder =
-             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh}});
+             ParseChoice<BvhBuilder>(s, {{"sah", BvhBuilder::kSah}, {"sbvh", BvhBuilder::kSbvh},
+                                         {"gpu", BvhBuilder::kLbvh}, {"auto", BvhBuilder::kAuto}});
        }},
   };
   return table;
@@ -360,6 +361,7 @@ const Handler* FindHandler(const std::string& name) {
 // Flags that take no value; false when name is not one.
 bool ApplyFlag(const std::string& name, CliOptions* options) {
   if (name == "--quiet") options->quiet = true;
+  else if (name == "--denoise") options->denoise = true;
   else if (name == "--help" || name == "-h") options->help = true;
   else if (name == "--version") options->version = true;
   else return false;

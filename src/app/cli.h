@@ -64,7 +64,7 @@ struct CliOptions {
   std::optional<float> fogSigmaS;     // --fog: a homogeneous medium around the camera
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // --transmittance
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)
-  BvhBuilder bvhBuilder = BvhBuilder::kSah;
+  BvhBuilder bvhBuilder = BvhBuilder::kAuto;
   size_t maxPaths = 0;         // --max-paths: paths in flight, 0 = the backend's default
   float clampLuminance = 0.0f;  // --clamp: 0 = off
 
@@ -85,6 +85,8 @@ struct CliOptions {
   std::string envFolder;    // --env-dir: the preview's environment maps (default: the scene's folder)
   // --exposure and --tonemap: how -o's PNG and the preview's display map radiance to 8 bits.
   DisplaySettings display;
+
+  bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
 
   bool quiet = false;
   bool help = false;

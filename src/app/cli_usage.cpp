@@ -18,6 +18,9 @@ Outputs
   --spp-map FILE           samples per pixel: a heat map (.png) or raw counts (.exr/.pfm)
   --stats-json FILE        write render statistics as JSON
   --reference FILE         log relMSE against this .exr/.pfm image into the stats
+  --denoise                denoise -o (NL-means on the two half films, guided by albedo,
+                           normal and depth; docs/denoise.md); an --hdr EXR keeps the raw
+                           image and gains denoised.R/G/B
 
 Image and sampling
   --spp N                  samples per pixel
@@ -77,7 +80,11 @@ Backend and performance
                            bits, or over all 32 (default auto: counting)
   --bvh binary|wide|auto   BVH node layout: binary, or 8-wide compressed; auto = the faster
                            one measured (wide, on the CPU and the GPU; default auto)
-  --bvh-build sah|sbvh     binned SAH, or SAH with spatial splits (slower build; default sah)
+  --bvh-build sah|sbvh|gpu|auto
+                           binned SAH, SAH with spatial splits (slower build), or the linear
+                           BVH built on the GPU (on the CPU without one; faster build, slower
+                           rays); default auto: gpu for meshes of 2^20+ primitives rendered on
+                           a GPU, else sah
   --specialize on|off      shade-stage variant compiled for the scene's effects (default on)
   --film float|double      film accumulation precision (default float)
   --tri-test watertight|box-clamped|mt

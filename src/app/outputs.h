@@ -20,8 +20,9 @@ struct ResumableState {
   std::string description;  // the render's description (src/app/resume.h), as JSON text
 };
 
-// Writes -o, --hdr (with the state when given and --hdr is an EXR) and --spp-map; returns the
-// files written, in that order. Throws ImageError.
+// Writes -o (the denoised image when there is one), --hdr (the raw image, with the state when
+// given and --hdr is an EXR) and --spp-map; returns the files written, in that order. Throws
+// ImageError.
 std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& image,
                                      const ResumableState* state);
 

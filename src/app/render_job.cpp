@@ -41,12 +41,15 @@ class PeriodicWriter {
     if (!preview && !checkpoint) return;
     try {
       if (cli_.checkpointEverySeconds <= 0.0) {
-        WriteImages(cli_, session.Image(), nullptr);
+        FilmImage image = session.Image();
+        if (job_.denoiser) job_.denoiser->Denoise(image);
+        WriteImages(cli_, image, nullptr);
         return;
       }
       // With checkpoints on, every --hdr written is resumable (a preview included).
       FilmState film = session.SaveFilm();
       FilmImage image = ResolveFilmImage(film);
+      if (preview && job_.denoiser) job_.denoiser->Denoise(image);
       ResumableState state{&film, job_.options.filmDouble, job_.description};
       if (preview) WriteImages(cli_, image, &state);
       else WriteCheckpoint(cli_, image, state);
@@ -130,6 +133,7 @@ JobOutcome RunRenderJob(const RenderJob& job) {
   RenderCallbacks callbacks;
   callbacks.shouldStop = [&stop] { return stop(); };
   callbacks.onProgress = [&](uint64_t done, uint64_t) {
+    if (!out.firstPixel) out.firstPixel = Clock::now();
     progress.Update({done, out.resumedSamples + done, pixels * uint64_t(settings.spp), pixels});
     if (session) writer.AfterWave(*session);  // none with --chunks (no previews then)
   };
@@ -140,7 +144,9 @@ JobOutcome RunRenderJob(const RenderJob& job) {
   if (job.chunks > 1) {
     out.result = RenderChunked(job.makeSession, *job.scene, options, callbacks, job.chunks);
   } else {
+    const Clock::time_point made = Clock::now();
     owned = job.makeSession(*job.scene, options, callbacks);
+    out.sessionMs = SecondsSince(made) * 1e3;
     session = owned.get();
     if (job.resumeFrom) Resume(*session, *job.resumeFrom, cli.resumePath);
     out.result = session->Render();
@@ -156,6 +162,9 @@ JobOutcome RunRenderJob(const RenderJob& job) {
                   (cli.checkpointEverySeconds > 0.0 || out.reason == StopReason::kSignal ||
                    out.reason == StopReason::kTimeLimit);
   if (out.keepState) out.film = session->SaveFilm();
+  const Clock::time_point freed = Clock::now();
+  owned.reset();
+  out.teardownMs = SecondsSince(freed) * 1e3;
   return out;
 }
 

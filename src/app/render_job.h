@@ -3,6 +3,8 @@
 // it goes, and the reason it stopped.
 #pragma once
 
+#include <chrono>
+#include <optional>
 #include <string>
 
 #include "src/app/cli.h"
@@ -25,10 +27,15 @@ struct RenderJob {
   // > 1: the samples cut into this many chunks merged along a fixed tree (--chunks: the image
   // of an MPI job with the same chunks); no resumable state then.
   uint32_t chunks = 1;
+  Denoiser* denoiser = nullptr;  // --denoise: previews are denoised too (the result by the app)
 };
 
 struct JobOutcome {
   RenderResult result;   // the film's image; stats.samples counts this run's samples only
+  // Where the job's time went beside the session's upload and render (stats): making the
+  // session (the device's start-up), and freeing it; when the first wave's samples were in.
+  double sessionMs = 0.0, teardownMs = 0.0;
+  std::optional<std::chrono::steady_clock::time_point> firstPixel;
   StopReason reason = StopReason::kCompleted;
   int signal = 0;        // the stop signal, when reason is kSignal
   uint64_t resumedSamples = 0;

@@ -7,11 +7,14 @@
 #include <string>
 
 #include "src/app/app_failure.h"
+#include "src/app/device_start.h"
 #include "src/app/cli.h"
+#include "src/app/denoise_step.h"
 #include "src/app/outputs.h"
 #include "src/app/render_job.h"
 #include "src/app/resume.h"
 #include "src/app/run_steps.h"
+#include "src/app/run_timeline.h"
 #include "src/app/serve.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
@@ -71,14 +74,17 @@ RenderJob MakeJob(const CliOptions& cli, const Scene& scene, BackendKind backend
 // files written.
 std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
                                       const RenderJob& job, const JobOutcome& outcome,
-                                      AppTimes times, AppClock::time_point start) {
+                                      AppTimes times, RunTimeline& timeline) {
   try {
     ResumableState state{&outcome.film, job.options.filmDouble, job.description};
     std::vector<std::string> written =
         WriteImages(cli, outcome.result.image, outcome.keepState ? &state : nullptr);
+    timeline.Mark("output");
     if (!cli.statsJsonPath.empty()) {
-      times.totalMs = MsSince(start);
       RunReport report = MakeReport(cli, scene, outcome, job.options.backend);
+      timeline.Mark("stats");
+      times.timeline = &timeline;
+      times.totalMs = timeline.TotalMs();
       WriteStatsJson(cli.statsJsonPath, StatsToJson(outcome.result.stats, scene, times, report));
       written.push_back(cli.statsJsonPath);
     }
@@ -88,29 +94,58 @@ std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
   }
 }
 
+// The render job's part of the timeline cut into the session's start-up (the device's), its
+// upload and render, the freeing of the session, and the rest (film readback and resolve).
+void SplitJobTime(const JobOutcome& outcome, RunTimeline& timeline) {
+  const RenderStats& stats = outcome.result.stats;
+  timeline.Split("render_job",
+                 {{"device_start", outcome.sessionMs}, {"upload", stats.uploadMs},
+                  {"render", stats.renderMs}, {"teardown", outcome.teardownMs}},
+                 "film_readback");
+  if (outcome.firstPixel) timeline.SetFirstPixel(*outcome.firstPixel);
+}
+
 int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point start) {
+  RunTimeline timeline(start);
   CheckOutputsWritable(cli);
+  DeviceStart device(backends, cli.backend);  // beside the loading and the BVH build
+  timeline.Mark("setup");
   AppTimes times;
-  Scene scene = Build(LoadAndOverride(cli, &times.loadMs), ChooseBvh(cli),
+  SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
+  timeline.Mark("load");
+  Scene scene = Build(std::move(desc), ChooseBvh(cli, backends, &device, 0, &times.bvhOnDevice),
                       &times.bvhBuildMs);
+  times.bvhBuilder = BuilderThatRan(cli, times.bvhOnDevice);
+  timeline.Mark("build");
+  timeline.Split("build", {{"bvh_build", times.bvhBuildMs}}, "scene_prep");
   for (const std::string& warning : DarkSceneWarnings(scene)) Warn(warning);
   PrintEffects(scene, cli.specialize);
   std::vector<float> reference;
   if (!cli.referencePath.empty()) reference = ReadReference(cli, scene.desc.render);
-  BackendKind backend = ChooseBackend(cli.backend, backends);
+  timeline.Mark("scene_prep");
+  BackendKind backend = ChooseBackend(cli.backend, backends, &device);
+  timeline.Mark("device_start");
+  times.deviceStartBackgroundMs = device.BackgroundMs();
   RenderJob job = MakeJob(cli, scene, backend, backends, cli.referencePath.empty() ? nullptr : &reference);
   CheckChunkOptions(cli, scene, job.options, false);
   std::optional<FilmState> resumed;
   if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
   job.resumeFrom = resumed ? &*resumed : nullptr;
+  std::unique_ptr<Denoiser> denoiser = MakeAppDenoiser(cli, backend, backends, 0);
+  job.denoiser = denoiser.get();
   InstallStopSignals();
+  timeline.Mark("setup");
   JobOutcome outcome = RunRenderJob(job);
+  timeline.Mark("render_job");
   if (outcome.result.stats.samples > 0) {
     std::string black = BlackImageWarning(scene, outcome.result.image.rgb,
                                           cli.envPath == kEnvNone ? "--env none" : "");
     if (!black.empty()) Warn(black);
   }
-  std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, start);
+  SplitJobTime(outcome, timeline);
+  DenoiseImage(denoiser.get(), outcome.result.image, &times);
+  if (denoiser) timeline.Mark("denoise");  // a part of its own: time_ms.denoise
+  std::vector<std::string> written = WriteResults(cli, scene, job, outcome, times, timeline);
   PrintSummary(outcome);
   PrintWritten(written, cli, outcome.keepState);
   return outcome.reason == StopReason::kSignal ? 128 + outcome.signal : kExitOk;

@@ -4,6 +4,9 @@
 
 #include <memory>
 
+#include "src/denoise/denoiser.h"
+#include "src/geometry/bvh.h"
+#include "src/geometry/bvh_wide.h"
 #include "src/integrator/render_session.h"
 
 namespace pt {
@@ -28,6 +31,15 @@ struct AppBackends {
   SessionFactory cpuSession = nullptr;
   SessionFactory cudaSession = nullptr;
   int (*cudaDeviceCount)() = nullptr;
+  // --denoise on each backend (src/denoise/); cudaDenoiser is null without the CUDA backend.
+  DenoiserFactory cpuDenoiser = nullptr;
+  DenoiserFactory cudaDenoiser = nullptr;
+  // Starts the GPU of a local rank (its context and modules); returns the GPUs found.
+  int (*startDevice)(int localRank) = nullptr;
+  // The linear BVH (--bvh-build gpu) on a GPU; false when it cannot run there.
+  bool (*lbvhBuild)(const std::vector<Aabb>& bounds, int device, BvhBuildResult* out) = nullptr;
+  bool (*wideLbvhBuild)(const std::vector<Aabb>& bounds, int device, WideBvhResult* out) =
+      nullptr;
   // The preview server (src/server/http_server.h); null when cpp-httplib was not found.
   std::unique_ptr<HttpServer> (*startServer)(LiveRender&, const HttpServerConfig&) = nullptr;
 };

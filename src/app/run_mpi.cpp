@@ -14,10 +14,13 @@
 #include <thread>
 
 #include "src/app/app_failure.h"
+#include "src/app/denoise_step.h"
+#include "src/app/device_start.h"
 #include "src/app/outputs.h"
 #include "src/app/progress.h"
 #include "src/app/render_job.h"
 #include "src/app/run_steps.h"
+#include "src/app/run_timeline.h"
 #include "src/app/stats_json.h"
 #include "src/app/stop_signals.h"
 #include "src/distributed/distributed.h"
@@ -56,13 +59,22 @@ struct RankSetup {
   DistributedOptions distributed;
   AppTimes times;
   double mpiInitMs = 0.0;
+  std::unique_ptr<Denoiser> denoiser;  // rank 0 with --denoise: once, on the merged film
+  double deviceProbeMs = 0.0;  // ChooseBackend: the driver's start and the device count
 };
 
-RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& backends) {
+RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& backends,
+                DeviceStart* device) {
   RankSetup s;
   if (job.Rank() == 0) CheckOutputsWritable(cli);
-  s.scene.emplace(Build(LoadAndOverride(cli, &s.times.loadMs), ChooseBvh(cli), &s.times.bvhBuildMs));
-  BackendKind backend = ChooseBackend(cli.backend, backends);
+  s.scene.emplace(Build(LoadAndOverride(cli, &s.times.loadMs),
+                        ChooseBvh(cli, backends, device, job.LocalRank(), &s.times.bvhOnDevice),
+                        &s.times.bvhBuildMs));
+  s.times.bvhBuilder = BuilderThatRan(cli, s.times.bvhOnDevice);
+  const AppClock::time_point probe = AppClock::now();
+  BackendKind backend = ChooseBackend(cli.backend, backends, device);
+  s.deviceProbeMs = MsSince(probe);
+  s.times.deviceStartBackgroundMs = device->BackgroundMs();
   s.factory = backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
   s.options = MakeRenderOptions(cli, backend, nullptr);
   CheckChunkOptions(cli, *s.scene, s.options, true);
@@ -84,6 +96,7 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
     d.lanes = cli.lanes.value_or(1);
     d.mergeThreads = 1;
   }
+  if (job.Rank() == 0) s.denoiser = MakeAppDenoiser(cli, backend, backends, s.options.device);
   return s;
 }
 
@@ -114,7 +127,7 @@ uint64_t Fingerprint(const Scene& scene, const RenderOptions& o, uint32_t chunks
 // The statistics of a distributed render: the one-process schema, with counters summed over
 // ranks and the render time the job's, plus an "mpi" section per rank.
 nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t chunks,
-                               double mpiInitMs, bool features) {
+                               double mpiInitMs, bool features, bool halves) {
   nlohmann::ordered_json perRank = nlohmann::ordered_json::array();
   double lanesStartup = 0.0;
   for (const RankReport& rank : r.ranks) {
@@ -128,7 +141,7 @@ nlohmann::ordered_json MpiJson(const DistributedResult& r, int ranks, uint32_t c
           {"reduction_ms", r.reductionMs},
           {"startup_ms", {{"mpi_init", mpiInitMs}, {"lanes", lanesStartup}}},
           {"load_balance", LoadBalance(r.ranks)},
-          {"film_bytes_per_pixel", 60 + (features ? 28 : 0)},
+          {"film_bytes_per_pixel", 60 + (features ? 28 : 0) + (halves ? 16 : 0)},
           {"interrupted", r.interrupted},
           {"time_limited", r.timeLimited},
           {"ended_early", r.why},
@@ -180,23 +193,34 @@ JobOutcome Outcome(const DistributedResult& r) {
 
 // Rank 0 after the render: the image so far (if any sample arrived), statistics, summary.
 int FinishRoot(const CliOptions& cli, const RankSetup& s, const DistributedResult& r, int ranks,
-               AppClock::time_point start) {
+               RunTimeline& timeline) {
   if (!r.why.empty()) {
     std::fprintf(stderr, "pathtracer: the render ended early: %s; %s\n", r.why.c_str(),
                  r.samples ? "writing the image so far" : "no samples, nothing written");
   }
   if (r.samples == 0) return r.status != 0 ? r.status : kExitRuntimeFailure;
   JobOutcome outcome = Outcome(r);
+  AppTimes times = s.times;
+  try {
+    DenoiseImage(s.denoiser.get(), outcome.result.image, &times);
+    if (s.denoiser) timeline.Mark("denoise");
+  } catch (const AppFailure& f) {
+    std::fprintf(stderr, "pathtracer: %s\n", f.message.c_str());
+    return f.status;
+  }
   std::vector<std::string> written;
   try {
     // No resumable state: a film of chunks is not a per-pixel prefix of the samples.
     written = WriteImages(cli, outcome.result.image, nullptr);
+    timeline.Mark("output");
     if (!cli.statsJsonPath.empty()) {
-      AppTimes times = s.times;
-      times.totalMs = MsSince(start);
       RunReport report = MakeReport(cli, *s.scene, outcome, s.options.backend);
+      timeline.Mark("stats");
+      times.timeline = &timeline;
+      times.totalMs = timeline.TotalMs();
       nlohmann::ordered_json doc = StatsToJson(outcome.result.stats, *s.scene, times, report);
-      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, s.mpiInitMs, s.options.featureBuffers);
+      doc["mpi"] = MpiJson(r, ranks, s.distributed.chunks, s.mpiInitMs,
+                           s.options.featureBuffers, s.options.halfFilms);
       WriteStatsJson(cli.statsJsonPath, doc);
       written.push_back(cli.statsJsonPath);
     }
@@ -232,7 +256,8 @@ void KeepFreedMemory() {
 // The command line and this rank's set-up, agreed on by every rank: the job's exit status
 // when it ends here (a bad command line, a failed set-up, --help), else nullopt.
 std::optional<int> Prepare(MpiJob& job, int argc, const char* const* argv,
-                           const AppBackends& backends, CliOptions* cli, RankSetup* s) {
+                           const AppBackends& backends, CliOptions* cli, RankSetup* s,
+                           RunTimeline& timeline, std::optional<DeviceStart>* device) {
   bool root = job.Rank() == 0;
   int status = 0;
   std::string message;
@@ -248,8 +273,10 @@ std::optional<int> Prepare(MpiJob& job, int argc, const char* const* argv,
     if (root && cli->version) std::printf("pathtracer %s\n", PT_VERSION);
     return kExitOk;
   }
+  device->emplace(backends, cli->backend, job.LocalRank());  // beside loading and the BVH
+  timeline.Mark("setup");
   try {
-    *s = SetUp(job, *cli, backends);
+    *s = SetUp(job, *cli, backends, &**device);
   } catch (const AppFailure& f) {
     status = f.status, message = f.message;
   } catch (const OutOfDeviceMemory& e) {
@@ -259,6 +286,11 @@ std::optional<int> Prepare(MpiJob& job, int argc, const char* const* argv,
   } catch (const std::exception& e) {
     status = kExitRuntimeFailure, message = e.what();
   }
+  timeline.Mark("scene");
+  timeline.Split("scene",
+                 {{"load", s->times.loadMs}, {"bvh_build", s->times.bvhBuildMs},
+                  {"device_start", s->deviceProbeMs}},
+                 "scene_prep");
   if (std::optional<int> failed = AgreeOn(job, status, message)) return failed;
   std::vector<uint64_t> prints =
       job.AllGather(Fingerprint(*s->scene, s->options, s->distributed.chunks));
@@ -271,13 +303,32 @@ std::optional<int> Prepare(MpiJob& job, int argc, const char* const* argv,
   return std::nullopt;
 }
 
+// Rank 0's part of the timeline spent in RenderDistributed: its lanes' start (sessions made,
+// scene uploaded), the render until the last rank's last leaf, the reduction of the films to
+// the root film, and the hand-over (waiting for every rank to be ready, the lanes' end).
+void SplitDistributedTime(const DistributedResult& r, int rank, RunTimeline& timeline) {
+  double lanesStart = 0.0;
+  for (const RankReport& report : r.ranks) {
+    if (report.rank == rank) lanesStart = report.startupMs;
+  }
+  timeline.Split("distributed",
+                 {{"lanes_start", lanesStart}, {"render", r.renderMs - r.reductionMs},
+                  {"reduction", r.reductionMs}},
+                 "hand_over");
+}
+
 int RunRanks(MpiJob& job, int argc, const char* const* argv, const AppBackends& backends,
              AppClock::time_point start, double mpiInitMs) {
   bool root = job.Rank() == 0;
+  RunTimeline timeline(start, "launch");  // the process's start, then MPI_Init
+  timeline.Mark("launch");
   KeepFreedMemory();
   CliOptions cli;
   RankSetup s;
-  if (std::optional<int> ended = Prepare(job, argc, argv, backends, &cli, &s)) return *ended;
+  std::optional<DeviceStart> device;
+  if (std::optional<int> ended = Prepare(job, argc, argv, backends, &cli, &s, timeline, &device))
+    return *ended;
+  timeline.Mark("ranks_sync");
   s.mpiInitMs = mpiInitMs;
   InstallStopSignals();
   if (root) {
@@ -299,7 +350,9 @@ int RunRanks(MpiJob& job, int argc, const char* const* argv, const AppBackends& 
     job.Abort(kExitRuntimeFailure);
   }
   progress.Finish();
-  int status = root ? FinishRoot(cli, s, r, job.Size(), start) : r.status;
+  timeline.Mark("distributed");
+  SplitDistributedTime(r, job.Rank(), timeline);
+  int status = root ? FinishRoot(cli, s, r, job.Size(), timeline) : r.status;
   if (root && r.rankLost) {
     std::fprintf(stderr, "pathtracer: ending the job: a rank is not answering\n");
     job.Abort(status);

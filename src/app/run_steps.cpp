@@ -71,12 +71,43 @@ SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
 
 // --bvh auto: the wide layout, measured the faster on both backends (benchmarks/RESULTS.md:
 // GPU 1.07-1.25x per render; CPU 1.2-1.6x per traced ray).
-BvhBuildOptions ChooseBvh(const CliOptions& cli) {
+BvhBuildOptions ChooseBvh(const CliOptions& cli, const AppBackends& backends,
+                          DeviceStart* device, int localRank, bool* builtOnDevice) {
   BvhBuildOptions options;
   options.builder = cli.bvhBuilder;
   options.threads = cli.threads;
   options.layout = cli.bvhLayout.value_or(BvhLayout::kWide);
+  if (!device || cli.backend == BackendKind::kCpu) return options;
+  // A device that fails the build (an error, out of memory) leaves it to the host's threads.
+  auto onDevice = [device, localRank, builtOnDevice](auto build, const std::vector<Aabb>& bounds,
+                                                     auto* out) {
+    const int count = device->DeviceCount();  // waits for the device's start
+    bool ok = false;
+    try {
+      ok = count > 0 && build(bounds, localRank % count, out);
+    } catch (const std::exception&) {
+      ok = false;
+    }
+    if (ok && builtOnDevice) *builtOnDevice = true;
+    return ok;
+  };
+  if (auto build = backends.lbvhBuild) {
+    options.deviceLbvh = [onDevice, build](const std::vector<Aabb>& bounds, BvhBuildResult* out) {
+      return onDevice(build, bounds, out);
+    };
+  }
+  if (auto build = backends.wideLbvhBuild) {
+    options.deviceWideLbvh = [onDevice, build](const std::vector<Aabb>& bounds,
+                                               WideBvhResult* out) {
+      return onDevice(build, bounds, out);
+    };
+  }
   return options;
+}
+
+std::string BuilderThatRan(const CliOptions& cli, bool builtOnDevice) {
+  if (builtOnDevice || cli.bvhBuilder == BvhBuilder::kLbvh) return "gpu";
+  return cli.bvhBuilder == BvhBuilder::kSbvh ? "sbvh" : "sah";
 }
 
 Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
@@ -93,8 +124,11 @@ Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs) {
   }
 }
 
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends) {
-  int gpus = backends.cudaDeviceCount ? backends.cudaDeviceCount() : 0;
+BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends,
+                          DeviceStart* started) {
+  int gpus = 0;
+  if (started && started->BackgroundMs() >= 0.0) gpus = started->DeviceCount();
+  else if (backends.cudaDeviceCount) gpus = backends.cudaDeviceCount();
   bool cudaReady = backends.cudaSession != nullptr && gpus > 0;
   if (requested == BackendKind::kCuda && !cudaReady) {
     throw AppFailure{kExitRuntimeFailure,
@@ -131,8 +165,10 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.lightSampler = cli.lightSampler;
   options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
-  // Feature buffers (albedo, normal, depth) go into an --hdr EXR.
-  options.featureBuffers = !cli.hdrPath.empty() && IsExrPath(cli.hdrPath);
+  // Feature buffers (albedo, normal, depth) go into an --hdr EXR; --denoise reads them and the
+  // two half films.
+  options.featureBuffers = (!cli.hdrPath.empty() && IsExrPath(cli.hdrPath)) || cli.denoise;
+  options.halfFilms = cli.denoise;
   return options;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "src/app/cli.h"
+#include "src/app/device_start.h"
 #include "src/app/render_job.h"
 #include "src/app/run.h"
 #include "src/app/stats_json.h"
@@ -20,11 +21,20 @@ double MsSince(AppClock::time_point start);
 void Warn(const std::string& warning);
 
 SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs);
-// The BVH layout and builder --bvh and --bvh-build ask for (auto: wide).
-BvhBuildOptions ChooseBvh(const CliOptions& cli);
+// The BVH layout and builder --bvh and --bvh-build ask for (auto: wide). With a started device,
+// the linear BVH (--bvh-build gpu or auto) is built on it: GPU localRank mod the count.
+// builtOnDevice (optional) is set when the device built a tree.
+BvhBuildOptions ChooseBvh(const CliOptions& cli, const AppBackends& backends,
+                          DeviceStart* device = nullptr, int localRank = 0,
+                          bool* builtOnDevice = nullptr);
+// The builder that ran (stats' bvh.builder) for the options ChooseBvh made: auto's choice is
+// the linear BVH only where the device built it.
+std::string BuilderThatRan(const CliOptions& cli, bool builtOnDevice);
 Scene Build(SceneDesc desc, const BvhBuildOptions& bvh, double* bvhBuildMs);
-// auto: CUDA when it is built and a GPU is present, else the CPU.
-BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends);
+// auto: CUDA when it is built and a GPU is present, else the CPU. With `started`, the count
+// of its start-up (waited for) instead of a probe of its own.
+BackendKind ChooseBackend(BackendKind requested, const AppBackends& backends,
+                          DeviceStart* started = nullptr);
 RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
                                 const std::vector<float>* reference);
 

@@ -109,7 +109,13 @@ void SaveOnExit(const CliOptions& cli, LiveRender& live) {
   std::string files;
   try {
     if (!cli.outputPath.empty()) {
-      WriteDisplayImage(cli.outputPath, *image, display);
+      FilmImage shown;  // denoised on the page: the PNG too (as -o --denoise writes it)
+      if (!image->denoised.empty()) {
+        shown.width = image->width;
+        shown.height = image->height;
+        shown.rgb = image->denoised;
+      }
+      WriteDisplayImage(cli.outputPath, image->denoised.empty() ? *image : shown, display);
       files = cli.outputPath;
     }
     if (!cli.hdrPath.empty()) {
@@ -120,8 +126,9 @@ void SaveOnExit(const CliOptions& cli, LiveRender& live) {
     throw AppFailure{kExitRuntimeFailure, e.what()};
   }
   std::fprintf(stderr, "pathtracer: %s received: the preview stopped; wrote %s (%u spp; the "
-               "PNG with exposure %+g and %s tone mapping)\n", signal.c_str(), files.c_str(),
-               spp, double(display.exposure), ToneMappingName(display.toneMapping));
+               "PNG %swith exposure %+g and %s tone mapping)\n", signal.c_str(), files.c_str(),
+               spp, image->denoised.empty() ? "" : "denoised, ", double(display.exposure),
+               ToneMappingName(display.toneMapping));
 }
 
 }  // namespace
@@ -134,7 +141,7 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
   }
   CheckOutputsWritable(cli);
   double loadMs = 0.0, bvhMs = 0.0;
-  Scene scene = Build(LoadAndOverride(cli, &loadMs), ChooseBvh(cli), &bvhMs);
+  Scene scene = Build(LoadAndOverride(cli, &loadMs), ChooseBvh(cli, backends), &bvhMs);
   SceneDocument document = LoadDocument(cli, scene.desc);
   BackendKind backend = ChooseBackend(cli.backend, backends);
   LiveSettings settings;
@@ -144,6 +151,14 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
   settings.environmentFolder = EnvironmentFolder(cli);
   SessionFactory factory = backend == BackendKind::kCuda ? backends.cudaSession
                                                          : backends.cpuSession;
+  // The page's denoise toggle: the render backend's denoiser, made by the preview.
+  DenoiserFactory makeDenoiser = backend == BackendKind::kCuda ? backends.cudaDenoiser
+                                                               : backends.cpuDenoiser;
+  if (makeDenoiser) {
+    int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
+    settings.makeDenoiser = [makeDenoiser, where] { return makeDenoiser(where, DenoiseSettings{}); };
+    settings.denoise = cli.denoise;
+  }
   LiveRender live(std::move(document), std::move(scene), factory, settings);
 
   HttpServerConfig config;

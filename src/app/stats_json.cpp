@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "src/integrator/shade_queues.h"
 #include "src/io/image_io.h"
@@ -41,6 +42,18 @@ Json ShadeQueueTimesJson(const StageTimes& s) {
   return queues;
 }
 
+Json StagesJson(const StageTimes& s) {
+  return Json{{"generate", s.generate},
+              {"intersect", s.intersect},
+              {"sort", s.sort},
+              {"shade", s.shade},
+              {"shadow", s.shadow},
+              {"compact", s.compact},
+              {"accumulate", s.accumulate},
+              {"medium", s.medium},
+              {"shade_queues", ShadeQueueTimesJson(s)}};
+}
+
 // The shading order that ran (auto's choice and its reason).
 Json SortJson(const RenderStats& stats) {
   return Json{{"mode", stats.sortMode},
@@ -49,22 +62,46 @@ Json SortJson(const RenderStats& stats) {
               {"paths_ordered", stats.pathsOrdered}};
 }
 
+// The timeline's parts (they sum to total), their names in run order, the time to the first
+// pixel and what ran beside the main thread.
+void AddTimelineJson(const AppTimes& times, Json* out) {
+  const RunTimeline& t = *times.timeline;
+  Json names = Json::array();
+  for (const auto& [name, ms] : t.Parts()) {
+    if (name != "load" && name != "bvh_build" && name != "upload" && name != "render")
+      (*out)[name] = ms;
+    names.push_back(name);
+  }
+  (*out)["parts"] = names;
+  std::optional<double> firstPixel = t.FirstPixelMs();
+  (*out)["first_pixel"] = firstPixel ? Json(*firstPixel) : Json(nullptr);
+  Json background = Json::object();
+  if (times.deviceStartBackgroundMs >= 0.0)
+    background["device_start"] = times.deviceStartBackgroundMs;
+  (*out)["background"] = background;
+}
+
 Json TimesJson(const RenderStats& stats, const AppTimes& times) {
   const StageTimes& s = stats.stages;
-  return Json{{"total", times.totalMs},
-              {"load", times.loadMs},
-              {"bvh_build", times.bvhBuildMs},
-              {"upload", stats.uploadMs},
-              {"render", stats.renderMs},
-              {"stages", Json{{"generate", s.generate},
-                              {"intersect", s.intersect},
-                              {"sort", s.sort},
-                              {"shade", s.shade},
-                              {"shadow", s.shadow},
-                              {"compact", s.compact},
-                              {"accumulate", s.accumulate},
-                              {"medium", s.medium},
-                              {"shade_queues", ShadeQueueTimesJson(s)}}}};
+  if (times.timeline) {  // the parts as the timeline cut them
+    const RunTimeline& t = *times.timeline;
+    Json out{{"total", t.TotalMs()},
+             {"load", t.Part("load")},
+             {"bvh_build", t.Part("bvh_build")},
+             {"upload", t.Part("upload")},
+             {"render", t.Part("render")},
+             {"stages", StagesJson(s)}};
+    AddTimelineJson(times, &out);
+    return out;
+  }
+  Json json{{"total", times.totalMs},
+            {"load", times.loadMs},
+            {"bvh_build", times.bvhBuildMs},
+            {"upload", stats.uploadMs},
+            {"render", stats.renderMs},
+            {"stages", StagesJson(s)}};
+  if (times.denoiseMs >= 0.0) json["denoise"] = times.denoiseMs;  // --denoise only
+  return json;
 }
 
 // Peaks that mean something on each backend: the renderer's own buffers (device memory on a
@@ -112,7 +149,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
   RenderRates rates = ComputeRates(stats);
   bool stoppedEarly =
       run.stopReason == "signal" || run.stopReason == "time_limit" || run.stopReason == "failed";
-  return Json{
+  Json doc{
       {"version", PT_VERSION},
       {"command_line", run.commandLine},
       {"scene_file", run.sceneFile},
@@ -157,6 +194,11 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"nonfinite_samples", stats.nonfiniteSamples},
       {"reference_relmse", RelMseJson(stats)},
   };
+  if (!times.bvhBuilder.empty()) {  // which builder ran (--bvh-build auto's choice), and where
+    doc["bvh"]["builder"] = times.bvhBuilder;
+    doc["bvh"]["built_on"] = times.bvhOnDevice ? "device" : "host";
+  }
+  return doc;
 }
 
 void WriteStatsJson(const std::string& path, const Json& document) {

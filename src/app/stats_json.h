@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "src/app/run_timeline.h"
 #include "src/integrator/render_api.h"
 
 namespace pt {
@@ -16,6 +17,15 @@ struct AppTimes {
   double loadMs = 0.0;
   double bvhBuildMs = 0.0;
   double totalMs = 0.0;  // the whole run, from the start of the program to the stats
+  double denoiseMs = -1.0;  // --denoise's time (copies to and from a GPU included); < 0: none
+  // The run cut into named parts (run_timeline.h): when set, time_ms lists them, total is
+  // their sum, and first_pixel is reported.
+  const RunTimeline* timeline = nullptr;
+  double deviceStartBackgroundMs = -1.0;  // the device's start-up off the main thread (>= 0)
+  // The builder that made the BVH (bvh.builder: sah, sbvh, gpu; empty: not reported) and
+  // whether the GPU built it (bvh.built_on: "device" or "host").
+  std::string bvhBuilder;
+  bool bvhOnDevice = false;
 };
 
 // What the app knows of the run beyond the renderer's statistics.

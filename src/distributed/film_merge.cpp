@@ -8,6 +8,7 @@ namespace pt {
 namespace {
 
 bool HasFeatures(const FilmState& f) { return !f.albedoSum.empty(); }
+bool HasHalves(const FilmState& f) { return !f.evenSum.empty(); }
 
 void CheckShape(const FilmState& f, const char* which) {
   size_t n = f.PixelCount();
@@ -15,6 +16,7 @@ void CheckShape(const FilmState& f, const char* which) {
             f.lumM2.size() == n && f.count.size() == n;
   if (HasFeatures(f))
     ok = ok && f.albedoSum.size() == n && f.normalSum.size() == n && f.depthSum.size() == n;
+  if (HasHalves(f)) ok = ok && f.evenSum.size() == n && f.evenCount.size() == n;
   if (!ok) throw std::invalid_argument(std::string("film merge: the ") + which +
                                        " film's arrays do not match its size");
 }
@@ -27,6 +29,10 @@ void MergePixel(FilmState& a, const FilmState& b, size_t i) {
     a.albedoSum[i] += b.albedoSum[i];
     a.normalSum[i] += b.normalSum[i];
     a.depthSum[i] += b.depthSum[i];
+  }
+  if (HasHalves(a)) {
+    a.evenSum[i] += b.evenSum[i];
+    a.evenCount[i] += b.evenCount[i];
   }
   a.count[i] = na + nb;
   if (na == 0) {
@@ -54,6 +60,8 @@ void MergeFilmInto(FilmState& into, const FilmState& from, int threads) {
     throw std::invalid_argument("film merge: films of different sizes");
   if (HasFeatures(into) != HasFeatures(from))
     throw std::invalid_argument("film merge: one film has feature channels, the other not");
+  if (HasHalves(into) != HasHalves(from))
+    throw std::invalid_argument("film merge: one film has half-film channels, the other not");
   CheckShape(into, "first");
   CheckShape(from, "second");
   // Below ~64k pixels a thread costs more than it saves.
@@ -62,7 +70,7 @@ void MergeFilmInto(FilmState& into, const FilmState& from, int threads) {
   });
 }
 
-FilmState EmptyFilm(uint32_t width, uint32_t height, bool features) {
+FilmState EmptyFilm(uint32_t width, uint32_t height, bool features, bool halves) {
   FilmState f;
   f.width = width;
   f.height = height;
@@ -76,6 +84,10 @@ FilmState EmptyFilm(uint32_t width, uint32_t height, bool features) {
     f.albedoSum.assign(n, vec3(0.0f));
     f.normalSum.assign(n, vec3(0.0f));
     f.depthSum.assign(n, 0.0f);
+  }
+  if (halves) {
+    f.evenSum.assign(n, vec3(0.0f));
+    f.evenCount.assign(n, 0u);
   }
   return f;
 }

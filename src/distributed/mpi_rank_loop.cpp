@@ -108,9 +108,8 @@ void RankLoop::StockFilms() {
   size_t levels = 0;
   while ((uint32_t(1) << levels) < share) ++levels;
   shared_.films.Stock(size_t(distributed_.lanes) + levels,
-                      [w = filmWidth_, h = filmHeight_, f = options_.featureBuffers] {
-                        return EmptyFilm(w, h, f);
-                      });
+                      [w = filmWidth_, h = filmHeight_, f = options_.featureBuffers,
+                       halves = options_.halfFilms] { return EmptyFilm(w, h, f, halves); });
 }
 
 bool RankLoop::Step() {

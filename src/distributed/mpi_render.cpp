@@ -107,7 +107,8 @@ DistributedResult RankLoop::Finish() {
   // fresh pages in its reduction).
   std::optional<FilmState> root = assembler_.TakeRoot();
   result.film = root ? std::move(*root)
-                     : EmptyFilm(filmWidth_, filmHeight_, options_.featureBuffers);
+                     : EmptyFilm(filmWidth_, filmHeight_, options_.featureBuffers,
+                                 options_.halfFilms);
   // The render ends with the root film. Joining the lanes waits for their sessions to free
   // their memory (tens of milliseconds on a GPU), which a one-process render's time leaves
   // out as well.

@@ -16,7 +16,7 @@ struct ArrayRef {
 
 // A film's arrays in the order they travel (resized first when receiving). Every count fits
 // an int: images are at most 2^28 pixels.
-std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool resize) {
+std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool halves, bool resize) {
   size_t n = f.PixelCount();
   if (resize) {
     f.mean.resize(n);
@@ -27,6 +27,8 @@ std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool resize) {
     f.albedoSum.resize(features ? n : 0);
     f.normalSum.resize(features ? n : 0);
     f.depthSum.resize(features ? n : 0);
+    f.evenSum.resize(halves ? n : 0);
+    f.evenCount.resize(halves ? n : 0);
   }
   int n1 = int(n), n3 = int(3 * n);
   std::vector<ArrayRef> arrays = {{f.mean.data(), n3, MPI_DOUBLE},
@@ -38,6 +40,10 @@ std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool resize) {
     arrays.push_back({f.albedoSum.data(), n3, MPI_FLOAT});
     arrays.push_back({f.normalSum.data(), n3, MPI_FLOAT});
     arrays.push_back({f.depthSum.data(), n1, MPI_FLOAT});
+  }
+  if (halves) {
+    arrays.push_back({f.evenSum.data(), n3, MPI_FLOAT});
+    arrays.push_back({f.evenCount.data(), n1, MPI_UINT32_T});
   }
   return arrays;
 }
@@ -58,7 +64,8 @@ FilmTransferOut::FilmTransferOut(MPI_Comm comm, int dest,
   nlohmann::json header{{"reports", nlohmann::json::array()}, {"nodes", nlohmann::json::array()}};
   for (const RankReport& r : reports) header["reports"].push_back(RankReportToJson(r));
   for (const auto& [node, f] : films_) {
-    header["nodes"].push_back({node.begin, node.end, f.width, f.height, !f.albedoSum.empty()});
+    header["nodes"].push_back({node.begin, node.end, f.width, f.height, !f.albedoSum.empty(),
+                               !f.evenSum.empty()});
   }
   header_ = header.dump();
   requests_.emplace_back();
@@ -66,7 +73,7 @@ FilmTransferOut::FilmTransferOut(MPI_Comm comm, int dest,
                   &requests_.back()),
         "MPI_Isend");
   for (auto& [node, f] : films_) {
-    for (const ArrayRef& a : Arrays(f, !f.albedoSum.empty(), false)) {
+    for (const ArrayRef& a : Arrays(f, !f.albedoSum.empty(), !f.evenSum.empty(), false)) {
       requests_.emplace_back();
       Check(MPI_Isend(a.data, a.count, a.type, dest, kTagReduceData, comm, &requests_.back()),
             "MPI_Isend");
@@ -97,7 +104,7 @@ std::unique_ptr<FilmTransferIn> FilmTransferIn::TryStart(MPI_Comm comm, int sour
     for (const auto& n : header.at("nodes")) {
       FilmState& f = in->films_[i++].second;
       // The arrays follow the header from the same rank, in order (MPI does not reorder).
-      for (const ArrayRef& a : Arrays(f, n.at(4).get<bool>(), true)) {
+      for (const ArrayRef& a : Arrays(f, n.at(4).get<bool>(), n.at(5).get<bool>(), true)) {
         in->requests_.emplace_back();
         Check(MPI_Irecv(a.data, a.count, a.type, from, kTagReduceData, comm,
                         &in->requests_.back()),

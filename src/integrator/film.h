@@ -18,6 +18,8 @@ struct FilmView {
   vec3* albedoSum;          // feature sums; null unless requested
   vec3* normalSum;
   float* depthSum;
+  vec3* evenSum;            // the even-indexed samples' sum and count: one of the two half
+  uint32_t* evenCount;      // films a denoiser compares (null unless requested)
 };
 
 // A pixel with no samples: every channel the film keeps set to zero (ResetFilm's stage body).
@@ -28,6 +30,10 @@ PT_HDI void ClearFilmPixel(const FilmView& f, uint32_t i) {
   f.sampleCount[i] = 0u;
   if (f.albedoSum) f.albedoSum[i] = f.normalSum[i] = vec3(0.0f);
   if (f.depthSum) f.depthSum[i] = 0.0f;
+  if (f.evenSum) {
+    f.evenSum[i] = vec3(0.0f);
+    f.evenCount[i] = 0u;
+  }
 }
 
 // A pixel of one film copied into another of the same channels (SnapshotFilm's stage body).
@@ -48,6 +54,10 @@ PT_HDI void CopyFilmPixel(const FilmView& to, const FilmView& from, uint32_t i) 
     to.normalSum[i] = from.normalSum[i];
   }
   if (from.depthSum) to.depthSum[i] = from.depthSum[i];
+  if (from.evenSum) {
+    to.evenSum[i] = from.evenSum[i];
+    to.evenCount[i] = from.evenCount[i];
+  }
 }
 
 template <typename V, typename R>

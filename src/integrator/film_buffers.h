@@ -21,8 +21,9 @@ class FilmBuffers {
   template <typename T>
   using Buffer = typename Backend::template Buffer<T>;
 
-  // Float or double statistics (--film), feature sums only when asked for.
-  void Allocate(size_t pixels, bool dbl, bool features) {
+  // Float or double statistics (--film), feature sums and the even-sample half film only
+  // when asked for.
+  void Allocate(size_t pixels, bool dbl, bool features, bool halves = false) {
     mean_.Resize(dbl ? 0 : pixels);
     m2_.Resize(dbl ? 0 : pixels);
     meanDouble_.Resize(dbl ? pixels : 0);
@@ -30,6 +31,8 @@ class FilmBuffers {
     albedo_.Resize(features ? pixels : 0);
     normal_.Resize(features ? pixels : 0);
     depth_.Resize(features ? pixels : 0);
+    evenSum_.Resize(halves ? pixels : 0);
+    evenCount_.Resize(halves ? pixels : 0);
     lumMean_.Resize(pixels);
     lumM2_.Resize(pixels);
     count_.Resize(pixels);
@@ -45,7 +48,7 @@ class FilmBuffers {
   FilmView View() {
     return FilmView{mean_.Data(),    m2_.Data(),     meanDouble_.Data(), m2Double_.Data(),
                     lumMean_.Data(), lumM2_.Data(),  count_.Data(),      albedo_.Data(),
-                    normal_.Data(),  depth_.Data()};
+                    normal_.Data(),  depth_.Data(),  evenSum_.Data(),    evenCount_.Data()};
   }
   const Buffer<uint32_t>& Counts() const { return count_; }
 
@@ -77,6 +80,8 @@ class FilmBuffers {
     albedo_.Download(f.albedoSum);  // empty without feature buffers
     normal_.Download(f.normalSum);
     depth_.Download(f.depthSum);
+    evenSum_.Download(f.evenSum);  // empty without half films
+    evenCount_.Download(f.evenCount);
   }
 
   // Throws std::invalid_argument when the film's size or channels do not match.
@@ -88,6 +93,10 @@ class FilmBuffers {
     bool features = albedo_.Size() != 0;
     if (features && (f.albedoSum.size() != n || f.normalSum.size() != n || f.depthSum.size() != n))
       throw std::invalid_argument("film state lacks the feature channels this render keeps");
+    bool halves = evenSum_.Size() != 0;
+    if (halves && (f.evenSum.size() != n || f.evenCount.size() != n))
+      throw std::invalid_argument("film state lacks the half-film channels this render keeps "
+                                  "(--denoise)");
     if (meanDouble_.Size() != 0) {
       meanDouble_.Upload(f.mean);
       m2Double_.Upload(f.m2);
@@ -103,6 +112,10 @@ class FilmBuffers {
       normal_.Upload(f.normalSum);
       depth_.Upload(f.depthSum);
     }
+    if (halves) {
+      evenSum_.Upload(f.evenSum);
+      evenCount_.Upload(f.evenCount);
+    }
   }
 
  private:
@@ -117,10 +130,10 @@ class FilmBuffers {
     }
   }
 
-  Buffer<vec3> mean_, m2_, albedo_, normal_;
+  Buffer<vec3> mean_, m2_, albedo_, normal_, evenSum_;
   Buffer<glm::dvec3> meanDouble_, m2Double_;
   Buffer<float> lumMean_, lumM2_, depth_;
-  Buffer<uint32_t> count_;
+  Buffer<uint32_t> count_, evenCount_;
   std::vector<vec3> hostMean_, hostM2_;
 };
 

@@ -62,6 +62,7 @@ struct RenderOptions {
   float clampLuminance = 0.0f;       // > 0: each sample scaled to at most this luminance (biased)
   LightSampler lightSampler = LightSampler::kAuto;  // how next-event estimation picks a light
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // shadow rays in grid media
+  bool halfFilms = false;            // also the even-indexed samples' sum (--denoise's halves)
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -72,6 +73,11 @@ struct FilmImage {
   std::vector<uint32_t> samples;
   // First-hit feature buffers, averaged over samples (only when requested).
   std::vector<float> albedo, normal, depth;  // 3, 3 and 1 floats per pixel
+  // The mean and count of the even-indexed samples (halfFilms only): with rgb and samples,
+  // the two half films of a dual-buffer denoiser.
+  std::vector<float> evenRgb;
+  std::vector<uint32_t> evenSamples;
+  std::vector<float> denoised;  // 3 floats per pixel, when denoised (src/denoise/)
 };
 
 // The film's raw per-pixel state over the crop window, enough to continue it exactly: the
@@ -85,6 +91,8 @@ struct FilmState {
   std::vector<uint32_t> count;
   std::vector<vec3> albedoSum, normalSum;
   std::vector<float> depthSum;
+  std::vector<vec3> evenSum;          // the even-indexed samples (empty unless halfFilms)
+  std::vector<uint32_t> evenCount;
 
   size_t PixelCount() const { return size_t(width) * height; }
 };
@@ -157,6 +165,8 @@ RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
 
 bool CudaBackendBuilt();
 int CudaDeviceCount();      // 0 when not built or no GPU
+// Starts GPU localRank % count (driver, context, modules) and returns the count (0: none).
+int CudaStartDevice(int localRank);
 std::string CudaDeviceName();
 
 // relMSE as the CLI contract defines it: mean((x - r)^2 / (r^2 + 1e-2)) over pixels, channels.

@@ -65,6 +65,11 @@ FilmImage ResolveFilmImage(const FilmState& film) {
     img.normal.assign(3 * n, 0.0f);
     img.depth.assign(n, 0.0f);
   }
+  bool halves = !film.evenSum.empty();
+  if (halves) {
+    img.evenRgb.assign(3 * n, 0.0f);
+    img.evenSamples = film.evenCount;
+  }
   for (size_t i = 0; i < n; ++i) {
     double k = film.count[i];
     if (k == 0) continue;
@@ -78,6 +83,9 @@ FilmImage ResolveFilmImage(const FilmState& film) {
       }
     }
     if (features) img.depth[i] = float(film.depthSum[i] / k);
+    uint32_t even = halves ? film.evenCount[i] : 0u;
+    for (int c = 0; c < 3 && even > 0; ++c)
+      img.evenRgb[3 * i + c] = float(double(film.evenSum[i][c]) / even);
   }
   return img;
 }

@@ -192,7 +192,8 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
 
 template <typename Backend>
 void WavefrontIntegrator<Backend>::AllocateFilm(size_t pixels) {
-  filmArrays_.Allocate(pixels, options_.filmDouble, params_.featureBuffers != 0);
+  filmArrays_.Allocate(pixels, options_.filmDouble, params_.featureBuffers != 0,
+                       options_.halfFilms);
   activePixels_.Resize(adaptive_.enabled ? pixels : 0);
   film_ = filmArrays_.View();
   ResetFilm();
@@ -202,7 +203,8 @@ template <typename Backend>
 void WavefrontIntegrator<Backend>::SnapshotFilm() {
   EnsureAllocated();
   if (snapshot_.Pixels() != filmArrays_.Pixels())
-    snapshot_.Allocate(plan_.cropPixels, options_.filmDouble, params_.featureBuffers != 0);
+    snapshot_.Allocate(plan_.cropPixels, options_.filmDouble, params_.featureBuffers != 0,
+                       options_.halfFilms);
   FilmView from = film_, to = snapshot_.View();
   backend_.ParallelFor(Stage::kAccumulate, plan_.cropPixels,
                        [=] PT_HD(uint32_t i) { CopyFilmPixel(to, from, i); });

@@ -24,8 +24,8 @@ ExrChannel FloatChannel(const std::string& name, const std::vector<float>& value
 // 32-bit words as a UINT channel (sample counts, or the bits of floats kept exactly).
 ExrChannel UintChannel(const std::string& name, const std::vector<uint32_t>& words);
 
-// R, G, B; with extras also variance.R/G/B, samples, albedo.R/G/B, normal.X/Y/Z and Z, each
-// where the image has it.
+// R, G, B; with extras also variance.R/G/B, samples, albedo.R/G/B, normal.X/Y/Z, Z and
+// denoised.R/G/B, each where the image has it.
 std::vector<ExrChannel> ImageExrChannels(const FilmImage& image, bool withExtras);
 
 struct ExrAttribute {

@@ -107,7 +107,9 @@ void WriteResumableExr(const std::string& path, const FilmImage& image, const Fi
   if (int(film.width) != image.width || int(film.height) != image.height ||
       image.samples != film.count || film.mean.size() != pixels || film.m2.size() != pixels ||
       film.lumMean.size() != pixels || film.lumM2.size() != pixels ||
-      (features && (film.normalSum.size() != pixels || film.depthSum.size() != pixels))) {
+      (features && (film.normalSum.size() != pixels || film.depthSum.size() != pixels)) ||
+      film.evenSum.size() != film.evenCount.size() ||
+      (!film.evenSum.empty() && film.evenSum.size() != pixels)) {
     throw ImageError(path + ": internal: the film state does not match its image");
   }
   // The image as any --hdr EXR holds it; its "samples" channel is the film's counts.
@@ -120,6 +122,10 @@ void WriteResumableExr(const std::string& path, const FilmImage& image, const Fi
     AddVec3Channels("albedoSum", film.albedoSum, channels);
     AddVec3Channels("normalSum", film.normalSum, channels);
     channels.push_back(FloatChannel("state.depthSum", film.depthSum, 1, 0));
+  }
+  if (!film.evenSum.empty()) {  // --denoise's half film
+    AddVec3Channels("evenSum", film.evenSum, channels);
+    channels.push_back(UintChannel("state.evenCount", film.evenCount));
   }
   std::vector<ExrAttribute> attributes = {{kResumeAttribute, description},
                                           {kPrecisionAttribute, doubleFilm ? "double" : "float"}};
@@ -151,6 +157,10 @@ ResumableExr ReadResumableExr(const std::string& path) {
     film.albedoSum = reader.Vec3s("albedoSum");
     film.normalSum = reader.Vec3s("normalSum");
     film.depthSum = reader.Floats("state.depthSum");
+  }
+  if (reader.Has("state.evenCount")) {
+    film.evenSum = reader.Vec3s("evenSum");
+    film.evenCount = reader.Words("state.evenCount");
   }
   return out;
 }

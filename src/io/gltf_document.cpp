@@ -329,6 +329,7 @@ class GltfDecompressor {
     GltfJson& meshes = doc_["meshes"];
     if (!meshes.is_array()) return;
     for (size_t m = 0; m < meshes.size(); ++m) {
+      if (!meshes[m].is_object() || !Member(meshes[m], "primitives")) continue;
       GltfJson& prims = meshes[m]["primitives"];
       for (size_t p = 0; prims.is_array() && p < prims.size(); ++p) {
         if (!Extension(prims[p], "KHR_draco_mesh_compression")) continue;
@@ -373,7 +374,8 @@ void GltfDecompressor::DecodeDraco(GltfJson& prim, const std::string& part) {
     }
     const GltfJson& a = accessors[own->get<size_t>()];
     DracoAttributeRequest r{name, id.get<int64_t>(),
-                            int(IndexMember(a, "componentType", what)), ComponentsOf(a["type"])};
+                            int(IndexMember(a, "componentType", what)),
+                            ComponentsOf(Member(a, "type") ? *Member(a, "type") : GltfJson())};
     if (r.components == 0) DocumentFail(what + ": its accessor's type is not SCALAR or VEC2-4");
     requests.push_back(r);
     accessorOf.push_back(own->get<size_t>());
@@ -405,7 +407,11 @@ std::string LoadGltfDocument(const std::string& path, tinygltf::TinyGLTF& loader
   if (!doc.is_discarded() && doc.is_object()) {
     CheckRequired(doc);
     CheckKtx2OnlyTextures(doc);
-    if (NeedsDecoding(doc)) glb = GltfDecompressor(doc, container, baseDir).Glb();
+    try {
+      if (NeedsDecoding(doc)) glb = GltfDecompressor(doc, container, baseDir).Glb();
+    } catch (const GltfJson::exception& e) {  // a member of an unexpected JSON type
+      DocumentFail(std::string("malformed compressed glTF (") + e.what() + ")");
+    }
   }
   std::string err, warn;
   bool ok = false;

@@ -3,8 +3,14 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <type_traits>
 
@@ -35,13 +41,81 @@ bool CaptureImage(tinygltf::Image* image, const int index, std::string*, std::st
 
 [[noreturn]] void Malformed(const std::string& what) { throw std::runtime_error(what); }
 
-tinygltf::Model ReadModel(const std::string& path, MeshSink& sink, GltfEncodedImages& images) {
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(CaptureImage, &images);
+// A file as tinygltf parsed it: the model, its URI images' encoded bytes, the reader's warning.
+struct ParsedGltf {
   tinygltf::Model model;
-  std::string warn = LoadGltfDocument(path, loader, &model);  // Draco and meshopt decoded
-  if (!warn.empty()) sink.Warn("glTF reader: " + OneLine(warn));
-  return model;
+  GltfEncodedImages images;
+  std::string warning;
+};
+
+std::shared_ptr<const ParsedGltf> ParseGltf(const std::string& path) {
+  auto parsed = std::make_shared<ParsedGltf>();
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(CaptureImage, &parsed->images);
+  // Draco and meshopt decoded, required extensions checked.
+  const std::string warn = LoadGltfDocument(path, loader, &parsed->model);
+  if (!warn.empty()) parsed->warning = "glTF reader: " + OneLine(warn);
+  return parsed;
+}
+
+// The live GltfParseCache's parses (futures, so a load waits for its prefetch), by path with
+// the file's size and modification time.
+struct ParseCacheState {
+  std::mutex mutex;
+  std::map<std::string, std::shared_future<std::shared_ptr<const ParsedGltf>>> parses;
+};
+ParseCacheState* gParseCache = nullptr;
+
+std::string CacheKey(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  const auto time = std::filesystem::last_write_time(path, ec).time_since_epoch().count();
+  return std::filesystem::absolute(path, ec).string() + "|" + std::to_string(size) + "|" +
+         std::to_string(time);
+}
+
+// The parse of `path`: the cache's (started now, or by Prefetch) while one is alive.
+std::shared_ptr<const ParsedGltf> ParsedModel(const std::string& path, bool async = false) {
+  if (!gParseCache) return ParseGltf(path);
+  std::shared_future<std::shared_ptr<const ParsedGltf>> parse;
+  {
+    std::lock_guard<std::mutex> lock(gParseCache->mutex);
+    auto& slot = gParseCache->parses[CacheKey(path)];
+    if (!slot.valid()) {
+      slot = std::async(async ? std::launch::async : std::launch::deferred,
+                        [path] { return ParseGltf(path); })
+                 .share();
+    }
+    parse = slot;
+  }
+  return async ? nullptr : parse.get();
+}
+
+// The model of `path` (parsed once while a GltfParseCache is alive), its reader's warning
+// given to the sink as each load of it did.
+std::shared_ptr<const ParsedGltf> ReadModel(const std::string& path, MeshSink& sink) {
+  std::shared_ptr<const ParsedGltf> parsed = ParsedModel(path);
+  if (!parsed->warning.empty()) sink.Warn(parsed->warning);
+  return parsed;
+}
+
+// The shared parse as posed by `animation`: itself when no animation is chosen, else a copy
+// posed (ApplyGltfAnimation edits the nodes; the parse is shared by other loads).
+struct PosedGltf {
+  std::shared_ptr<const ParsedGltf> parsed;
+  std::unique_ptr<tinygltf::Model> copy;
+  GltfPoseReport pose;
+  const tinygltf::Model& Model() const { return copy ? *copy : parsed->model; }
+};
+
+PosedGltf Pose(std::shared_ptr<const ParsedGltf> parsed, const GltfAnimationChoice& animation) {
+  PosedGltf out;
+  out.parsed = std::move(parsed);
+  if (animation.Active()) {
+    out.copy = std::make_unique<tinygltf::Model>(out.parsed->model);
+    out.pose = ApplyGltfAnimation(*out.copy, animation);
+  }
+  return out;
 }
 
 // Walks the node hierarchy and emits each mesh's triangles.
@@ -224,11 +298,11 @@ class GltfWalker {
 
 GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
                                const GltfAnimationChoice& animation) {
-  GltfEncodedImages images;
-  tinygltf::Model model = ReadModel(path, sink, images);
-  GltfPoseReport pose = ApplyGltfAnimation(model, animation);
+  const PosedGltf posed = Pose(ReadModel(path, sink), animation);
+  const tinygltf::Model& model = posed.Model();
+  const GltfPoseReport& pose = posed.pose;
   if (!pose.warning.empty()) sink.Warn(pose.warning);
-  GltfWalker walker(model, images, sink, GltfVariantIndex(model, sink.Variant()));
+  GltfWalker walker(model, posed.parsed->images, sink, GltfVariantIndex(model, sink.Variant()));
   int skippedBefore = sink.SkippedSingularInstances();
   for (int root : GltfRootNodes(model)) walker.VisitNode(root, sink.ObjectToWorld(), 0);
   walker.Finish();
@@ -243,10 +317,33 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
 GltfSceneContents ReadGltfSceneParts(const std::string& path, const GltfAnimationChoice& animation) {
   SceneDesc unused;
   MeshSink sink(unused, glm::dmat4(1.0), -1, path);
-  GltfEncodedImages images;
-  tinygltf::Model model = ReadModel(path, sink, images);
-  GltfPoseReport pose = ApplyGltfAnimation(model, animation);
-  return ReadGltfSceneContents(model, glm::dmat4(1.0), pose.posed);
+  const PosedGltf posed = Pose(ReadModel(path, sink), animation);
+  return ReadGltfSceneContents(posed.Model(), glm::dmat4(1.0), posed.pose.posed);
+}
+
+GltfParseCache::GltfParseCache() {
+  if (gParseCache) return;  // nested (an include's load): the outer one stays in charge
+  gParseCache = new ParseCacheState;
+  owns_ = true;
+}
+
+GltfParseCache::~GltfParseCache() {
+  if (!owns_) return;
+  ParseCacheState* state = gParseCache;
+  gParseCache = nullptr;
+  for (auto& [key, parse] : state->parses) {
+    if (parse.valid()) parse.wait();  // a prefetch still parsing: its thread ends first
+  }
+  delete state;
+}
+
+void GltfParseCache::Prefetch(const std::vector<std::string>& paths) {
+  if (!owns_) return;
+  for (const std::string& path : paths) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".glb" || ext == ".gltf") ParsedModel(path, /*async=*/true);
+  }
 }
 
 }  // namespace pt

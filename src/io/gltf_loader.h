@@ -26,4 +26,20 @@ GltfSceneContents LoadGltfMesh(const std::string& path, MeshSink& sink,
 GltfSceneContents ReadGltfSceneParts(const std::string& path,
                                      const GltfAnimationChoice& animation = {});
 
+// While one is alive, each glTF file is parsed once and its parse shared by every load of it
+// (a scene placing one file 141 times parses it once), and Prefetch parses files on threads
+// of their own ahead of the loader, which then finds them ready (issue 28: big scenes waited
+// on the host). The scene loader keeps one for the length of a load; one at a time.
+class GltfParseCache {
+ public:
+  GltfParseCache();
+  ~GltfParseCache();
+  GltfParseCache(const GltfParseCache&) = delete;
+  GltfParseCache& operator=(const GltfParseCache&) = delete;
+  void Prefetch(const std::vector<std::string>& paths);  // the .gltf and .glb among them
+
+ private:
+  bool owns_ = false;
+};
+
 }  // namespace pt

@@ -2,6 +2,7 @@
 // _emissive_strength) as MaterialType::kGltfPbr, per docs/gltf-materials.md; what the
 // renderer does not honour is collected into one warning per file.
 #include "src/io/gltf_material.h"
+#include "src/io/gltf_value.h"
 
 #include <tiny_gltf.h>
 
@@ -14,29 +15,6 @@ namespace pt {
 namespace {
 
 using tinygltf::Value;
-
-const Value* Extension(const tinygltf::ExtensionMap& extensions, const char* name) {
-  auto it = extensions.find(name);
-  return (it == extensions.end() || !it->second.IsObject()) ? nullptr : &it->second;
-}
-
-double NumberIn(const Value* ext, const char* key, double fallback) {
-  if (!ext || !ext->Has(key)) return fallback;
-  const Value& v = ext->Get(key);
-  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
-}
-
-vec3 Vec3In(const Value* ext, const char* key, vec3 fallback) {
-  if (!ext || !ext->Has(key)) return fallback;
-  const Value& v = ext->Get(key);
-  if (!v.IsArray() || v.ArrayLen() < 3) return fallback;
-  vec3 out;
-  for (int i = 0; i < 3; ++i) {
-    if (!v.Get(i).IsNumber()) return fallback;
-    out[i] = float(v.Get(i).GetNumberAsDouble());
-  }
-  return out;
-}
 
 vec3 Vec3Of(const std::vector<double>& v, vec3 fallback) {
   return v.size() >= 3 ? vec3(float(v[0]), float(v[1]), float(v[2])) : fallback;
@@ -53,7 +31,7 @@ bool HandledExtension(const std::string& name) {
 
 // KHR_materials_ior (default 1.5); a non-finite or non-positive index is replaced.
 float IorOf(const tinygltf::Material& m, std::vector<std::string>& notes) {
-  double ior = NumberIn(Extension(m.extensions, "KHR_materials_ior"), "ior", 1.5);
+  double ior = GltfNumber(GltfExtension(m.extensions, "KHR_materials_ior"), "ior", 1.5);
   if (!(ior > 0.0) || !std::isfinite(ior)) {
     notes.push_back("invalid KHR_materials_ior replaced by 1.5");
     ior = 1.5;
@@ -63,8 +41,8 @@ float IorOf(const tinygltf::Material& m, std::vector<std::string>& notes) {
 
 // Beer-Lambert coefficient -ln(attenuationColor) / attenuationDistance (0: no absorption).
 vec3 AbsorptionOf(const Value* volume) {
-  double distance = NumberIn(volume, "attenuationDistance", INFINITY);
-  vec3 color = Vec3In(volume, "attenuationColor", vec3(1.0f));
+  double distance = GltfNumber(volume, "attenuationDistance", INFINITY);
+  vec3 color = GltfVec3(volume, "attenuationColor", vec3(1.0f));
   vec3 sigma(0.0f);
   if (!(distance > 0.0 && std::isfinite(distance))) return sigma;
   for (int i = 0; i < 3; ++i) {
@@ -77,7 +55,7 @@ vec3 AbsorptionOf(const Value* volume) {
 // emissiveFactor x KHR_materials_emissive_strength, negative or non-finite parts dropped.
 vec3 EmissionOf(const tinygltf::Material& m, std::vector<std::string>& notes) {
   double strength =
-      NumberIn(Extension(m.extensions, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0);
+      GltfNumber(GltfExtension(m.extensions, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0);
   vec3 e = Vec3Of(m.emissiveFactor, vec3(0.0f)) * float(strength);
   if (!IsFinite(e) || MinComponent(e) < 0.0f) {
     notes.push_back("invalid emission (negative or not finite) set to 0");
@@ -136,13 +114,13 @@ MappedGltfMaterial MapGltfMaterial(const tinygltf::Material& m) {
   out.twoSided = m.doubleSided ? 1u : 0u;
   out.ior = IorOf(m, notes);
   out.normalScale = float(m.normalTexture.scale);
-  const Value* transmission = Extension(m.extensions, "KHR_materials_transmission");
-  out.transmission = float(Clamped01(NumberIn(transmission, "transmissionFactor", 0.0), 0.0));
+  const Value* transmission = GltfExtension(m.extensions, "KHR_materials_transmission");
+  out.transmission = float(Clamped01(GltfNumber(transmission, "transmissionFactor", 0.0), 0.0));
   bool transmissive = out.transmission > 0.0f;
-  const Value* volume = Extension(m.extensions, "KHR_materials_volume");
+  const Value* volume = GltfExtension(m.extensions, "KHR_materials_volume");
   // A volume needs thickness > 0; without one the surface is a thin wall (the extension's
   // rule). thicknessTexture is a rasterizer's estimate: a path tracer measures the geometry.
-  if (NumberIn(volume, "thicknessFactor", 0.0) > 0.0) {
+  if (GltfNumber(volume, "thicknessFactor", 0.0) > 0.0) {
     out.absorption = AbsorptionOf(volume);
   } else {
     out.flags |= kMaterialThinWalled;
@@ -152,7 +130,7 @@ MappedGltfMaterial MapGltfMaterial(const tinygltf::Material& m) {
   // a volume must meet its boundary from behind to leave it.
   if (!m.doubleSided && !transmissive) out.flags |= kMaterialCullBack;
   if (m.occlusionTexture.index >= 0) notes.push_back("occlusionTexture ignored");
-  if (Extension(m.extensions, "KHR_materials_unlit")) {
+  if (GltfExtension(m.extensions, "KHR_materials_unlit")) {
     // Unlit: the base colour is what the surface shows (as if emissive); nothing else applies.
     out.flags |= kMaterialUnlit;
     out.radiance = vec3(0.0f);
@@ -179,12 +157,12 @@ MappedGltfMaterial MapGltfMaterialLegacy(const tinygltf::Material& m) {
     out.type = MaterialType::kEmissive;
     out.radiance = emission;
     out.twoSided = m.doubleSided ? 1u : 0u;
-  } else if (NumberIn(Extension(m.extensions, "KHR_materials_transmission"), "transmissionFactor",
+  } else if (GltfNumber(GltfExtension(m.extensions, "KHR_materials_transmission"), "transmissionFactor",
                       0.0) > 0.0) {
     out.type = MaterialType::kDielectric;
     out.roughness = roughness;
     out.ior = IorOf(m, notes);
-    out.absorption = AbsorptionOf(Extension(m.extensions, "KHR_materials_volume"));
+    out.absorption = AbsorptionOf(GltfExtension(m.extensions, "KHR_materials_volume"));
   } else {
     out.albedo = base;
     out.roughness = roughness;
@@ -282,7 +260,7 @@ uint32_t GltfMaterialTable::Index(int index) {
 void GltfMaterialTable::ResolveTextures(const tinygltf::Material& source, int material,
                                         Material& m) {
   auto slotOf = [](const auto& info) {
-    return Slot{info.index, info.texCoord, Extension(info.extensions, "KHR_texture_transform")};
+    return Slot{info.index, info.texCoord, GltfExtension(info.extensions, "KHR_texture_transform")};
   };
   const auto& pbr = source.pbrMetallicRoughness;
   m.baseColorTexture = AddSlot(slotOf(pbr.baseColorTexture), true, "baseColorTexture", material);
@@ -292,7 +270,7 @@ void GltfMaterialTable::ResolveTextures(const tinygltf::Material& source, int ma
   if (m.normalTexture >= 0) needs_[material < 0 ? needs_.size() - 1 : size_t(material)].tangents = true;
   if (!IsBlack(m.radiance))  // a black factor makes the texture irrelevant: not decoded
     m.emissiveTexture = AddSlot(slotOf(source.emissiveTexture), true, "emissiveTexture", material);
-  const Value* transmission = Extension(source.extensions, "KHR_materials_transmission");
+  const Value* transmission = GltfExtension(source.extensions, "KHR_materials_transmission");
   if (m.transmission > 0.0f)
     m.transmissionTexture = AddSlot(SlotIn(transmission, "transmissionTexture"), false,
                                     "transmissionTexture", material);

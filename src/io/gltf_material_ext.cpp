@@ -10,35 +10,12 @@
 #include <cstdio>
 
 #include "src/io/gltf_material.h"
+#include "src/io/gltf_value.h"
 
 namespace pt {
 namespace {
 
 using tinygltf::Value;
-
-const Value* ExtensionOf(const tinygltf::ExtensionMap& extensions, const char* name) {
-  auto it = extensions.find(name);
-  return (it == extensions.end() || !it->second.IsObject()) ? nullptr : &it->second;
-}
-
-// A number field, or fallback when absent or not a number.
-double Number(const Value* ext, const char* key, double fallback) {
-  if (!ext || !ext->Has(key)) return fallback;
-  const Value& v = ext->Get(key);
-  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
-}
-
-vec3 Color(const Value* ext, const char* key, vec3 fallback) {
-  if (!ext || !ext->Has(key)) return fallback;
-  const Value& v = ext->Get(key);
-  if (!v.IsArray() || v.ArrayLen() < 3) return fallback;
-  vec3 out;
-  for (int i = 0; i < 3; ++i) {
-    if (!v.Get(i).IsNumber()) return fallback;
-    out[i] = float(v.Get(i).GetNumberAsDouble());
-  }
-  return out;
-}
 
 std::string FormatRange(double lo, double hi) {
   auto num = [](double v) {
@@ -52,7 +29,7 @@ std::string FormatRange(double lo, double hi) {
 // A factor clamped to [lo, hi] (a note when it was outside; NaN reads as the fallback).
 float Factor(const Value* ext, const char* key, double fallback, double lo, double hi,
              const std::string& what, std::vector<std::string>& notes) {
-  double v = Number(ext, key, fallback);
+  double v = GltfNumber(ext, key, fallback);
   if (std::isnan(v)) v = fallback;
   double c = std::clamp(v, lo, hi);
   if (c != v) notes.push_back(what + "." + key + " clamped to [" + FormatRange(lo, hi) + "]");
@@ -61,7 +38,7 @@ float Factor(const Value* ext, const char* key, double fallback, double lo, doub
 
 vec3 ColorFactor(const Value* ext, const char* key, vec3 fallback, float hi, const std::string& what,
                  std::vector<std::string>& notes) {
-  vec3 v = Color(ext, key, fallback);
+  vec3 v = GltfVec3(ext, key, fallback);
   vec3 c = IsFinite(v) ? glm::clamp(v, vec3(0.0f), vec3(hi)) : fallback;
   if (c != v) notes.push_back(what + "." + key + " clamped to [" + FormatRange(0.0, hi) + "]");
   return c;
@@ -79,26 +56,26 @@ bool LayeredGltfExtension(const std::string& name) {
 GltfMaterialExtension MapGltfExtensions(const tinygltf::Material& m, std::vector<std::string>& notes) {
   GltfMaterialExtension e;
   const auto& ext = m.extensions;
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_specular")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_specular")) {
     const std::string w = "KHR_materials_specular";
     e.specular = Factor(v, "specularFactor", 1.0, 0.0, 1.0, w, notes);
     e.specularColor = ColorFactor(v, "specularColorFactor", vec3(1.0f), 1e4f, w, notes);
     bool textured = v->Has("specularTexture") || v->Has("specularColorTexture");
     if (textured || e.specular != 1.0f || e.specularColor != vec3(1.0f)) e.mask |= kExtSpecular;
   }
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_clearcoat")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_clearcoat")) {
     const std::string w = "KHR_materials_clearcoat";
     e.clearcoat = Factor(v, "clearcoatFactor", 0.0, 0.0, 1.0, w, notes);
     e.clearcoatRoughness = Factor(v, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0, w, notes);
     if (e.clearcoat > 0.0f) e.mask |= kExtClearcoat;
   }
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_sheen")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_sheen")) {
     const std::string w = "KHR_materials_sheen";
     e.sheenColor = ColorFactor(v, "sheenColorFactor", vec3(0.0f), 1.0f, w, notes);
     e.sheenRoughness = Factor(v, "sheenRoughnessFactor", 0.0, 0.0, 1.0, w, notes);
     if (MaxComponent(e.sheenColor) > 0.0f) e.mask |= kExtSheen;
   }
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_iridescence")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_iridescence")) {
     const std::string w = "KHR_materials_iridescence";
     e.iridescence = Factor(v, "iridescenceFactor", 0.0, 0.0, 1.0, w, notes);
     e.iridescenceIor = Factor(v, "iridescenceIor", 1.3, 1.0, 10.0, w, notes);
@@ -106,13 +83,13 @@ GltfMaterialExtension MapGltfExtensions(const tinygltf::Material& m, std::vector
     e.thicknessMax = Factor(v, "iridescenceThicknessMaximum", 400.0, 0.0, 1e5, w, notes);
     if (e.iridescence > 0.0f) e.mask |= kExtIridescence;
   }
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_anisotropy")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_anisotropy")) {
     const std::string w = "KHR_materials_anisotropy";
     e.anisotropy = Factor(v, "anisotropyStrength", 0.0, 0.0, 1.0, w, notes);
     e.anisotropyRotation = Factor(v, "anisotropyRotation", 0.0, -1e6, 1e6, w, notes);
     if (e.anisotropy > 0.0f) e.mask |= kExtAnisotropy;
   }
-  if (const Value* v = ExtensionOf(ext, "KHR_materials_diffuse_transmission")) {
+  if (const Value* v = GltfExtension(ext, "KHR_materials_diffuse_transmission")) {
     const std::string w = "KHR_materials_diffuse_transmission";
     e.diffuseTransmission = Factor(v, "diffuseTransmissionFactor", 0.0, 0.0, 1.0, w, notes);
     e.diffuseTransmissionColor =
@@ -145,7 +122,7 @@ void GltfMaterialTable::ResolveExtensionTextures(const tinygltf::Material& sourc
   const auto& ext = source.extensions;
   GltfVertexNeeds& needs = needs_[material < 0 ? needs_.size() - 1 : size_t(material)];
   auto slot = [&](const char* extension, const char* key, bool srgb) {
-    return AddSlot(SlotIn(ExtensionOf(ext, extension), key), srgb, key, material);
+    return AddSlot(SlotIn(GltfExtension(ext, extension), key), srgb, key, material);
   };
   if (e.mask & kExtSpecular) {
     e.specularTexture = slot("KHR_materials_specular", "specularTexture", false);
@@ -157,9 +134,9 @@ void GltfMaterialTable::ResolveExtensionTextures(const tinygltf::Material& sourc
     e.clearcoatNormalTexture = slot("KHR_materials_clearcoat", "clearcoatNormalTexture", false);
     if (e.clearcoatNormalTexture >= 0) {
       needs.tangents = true;
-      const Value* v = ExtensionOf(ext, "KHR_materials_clearcoat");
+      const Value* v = GltfExtension(ext, "KHR_materials_clearcoat");
       const Value& info = v->Get("clearcoatNormalTexture");
-      e.clearcoatNormalScale = float(Number(&info, "scale", 1.0));
+      e.clearcoatNormalScale = float(GltfNumber(&info, "scale", 1.0));
     }
   }
   if (e.mask & kExtSheen) {

@@ -13,6 +13,72 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <zlib.h>
+
+#include <thread>
+#include <vector>
+
+// PNG's deflate (issue 28: the image is written on the way to the user's first look at it):
+// zlib at level 1 instead of stb's own compressor, which took 1.7-2.8x as long for a 30%
+// larger file at 1080p, and cut into strips of 1 MiB compressed on threads of their own, then joined
+// into one zlib stream as pigz does (each strip a raw deflate ending byte-aligned by a sync
+// flush, the last one final; the strips' Adler-32s combined). The strips depend on the size
+// alone, so the file is the same on any machine.
+static bool PtDeflateStrip(const unsigned char* data, size_t size, bool last, std::string* out) {
+  z_stream s{};
+  if (deflateInit2(&s, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return false;
+  const size_t room = deflateBound(&s, uLong(size)) + 16;
+  out->resize(room);
+  s.next_in = const_cast<unsigned char*>(data);
+  s.avail_in = uInt(size);
+  s.next_out = reinterpret_cast<unsigned char*>(out->data());
+  s.avail_out = uInt(room);
+  const int status = deflate(&s, last ? Z_FINISH : Z_SYNC_FLUSH);
+  out->resize(size_t(s.total_out));
+  deflateEnd(&s);
+  return last ? status == Z_STREAM_END : status == Z_OK && s.avail_in == 0;
+}
+
+static unsigned char* PtPngDeflate(unsigned char* data, int size, int* outSize, int) {
+  constexpr size_t kStrip = size_t(1) << 20;
+  const size_t bytes = size_t(size), strips = std::max<size_t>(1, (bytes + kStrip - 1) / kStrip);
+  std::vector<std::string> parts(strips);
+  std::vector<char> ok(strips, 0);
+  const size_t threads =
+      std::min<size_t>(strips, std::max(1u, std::thread::hardware_concurrency()));
+  auto work = [&](size_t first) {
+    for (size_t i = first; i < strips; i += threads) {
+      const size_t begin = i * kStrip, end = std::min(bytes, begin + kStrip);
+      ok[i] = PtDeflateStrip(data + begin, end - begin, i + 1 == strips, &parts[i]);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  uLong adler = adler32(0L, Z_NULL, 0);
+  size_t total = 6;
+  for (size_t i = 0; i < strips; ++i) {
+    if (!ok[i]) return nullptr;
+    const size_t begin = i * kStrip, length = std::min(bytes, begin + kStrip) - begin;
+    adler = adler32_combine(adler, adler32(1L, data + begin, uInt(length)), z_off_t(length));
+    total += parts[i].size();
+  }
+  unsigned char* out = static_cast<unsigned char*>(std::malloc(total));
+  if (!out) return nullptr;
+  size_t at = 0;
+  out[at++] = 0x78;  // deflate, 32K window; level 1's flags with a valid check
+  out[at++] = 0x01;
+  for (const std::string& part : parts) {
+    std::memcpy(out + at, part.data(), part.size());
+    at += part.size();
+  }
+  for (int shift = 24; shift >= 0; shift -= 8) out[at++] = (unsigned char)(adler >> shift);
+  *outSize = int(at);
+  return out;
+}
+#define STBIW_ZLIB_COMPRESS PtPngDeflate
+
 // Static so that no other library's copy of stb_image_write can clash with this one.
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -68,6 +134,11 @@ void CheckImageSize(const std::string& path, const FilmImage& image) {
 }
 
 std::string EncodePng(const std::string& path, const FilmImage& image) {
+  // One filter for every row ("up": the row above subtracted), not stb's trial of all five
+  // per row, which took a sixth to a fifth of the encoding for a 2.5% smaller file. Set once (threads
+  // encode several PNGs at once).
+  static const bool filterSet = (stbi_write_force_png_filter = 2, true);
+  (void)filterSet;
   std::vector<uint8_t> bytes(image.rgb.size());
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = LinearToSrgb8(image.rgb[i]);
   return EncodePng8(path, image.width, image.height, bytes);

@@ -69,16 +69,31 @@ SparseGrid GridSource(const JsonObject& m, const std::string& baseDir) {
   }
 }
 
+// The grid "emission_grid" names in the medium's file, laid out like the density.
+int32_t EmissionGrid(const JsonObject& m, const std::string& baseDir, const glm::dmat4& toWorld,
+                     MediaDesc& md) {
+  if (!m.Has("file")) m.Fail("emission_grid", "names a grid of a file; this medium is procedural");
+  std::string file = m.String("file");
+  fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : fs::path(baseDir) / file;
+  try {
+    return AddGridLayout(ReadVdbGrid(resolved.string(), m.String("emission_grid")), toWorld, &md);
+  } catch (const VdbError& e) {
+    m.Fail("emission_grid", "\"" + resolved.string() + "\": " + e.what());
+  } catch (const GridLayoutError& e) {
+    m.Fail("emission_grid", e.what());
+  }
+}
+
 void ParseMedium(const JsonObject& m, const std::string& baseDir, MediaDesc& md) {
   std::string type = m.String("type");
   Medium medium;
   vec3 lo(-kInfinity), hi(kInfinity);
   if (type == "homogeneous") {
-    m.AllowOnly({"type", "sigma_a", "sigma_s", "g", "scale"}, "a homogeneous medium");
+    m.AllowOnly({"type", "sigma_a", "sigma_s", "g", "scale", "emission"}, "a homogeneous medium");
     medium.type = MediumType::kHomogeneous;
   } else if (type == "grid") {
     m.AllowOnly({"type", "file", "grid", "procedural", "sigma_a", "sigma_s", "g", "scale",
-                 "transform"},
+                 "transform", "emission", "emission_grid"},
                 "a grid medium");
     medium.type = MediumType::kGrid;
   } else {
@@ -90,14 +105,19 @@ void ParseMedium(const JsonObject& m, const std::string& baseDir, MediaDesc& md)
   if (!IsFinite(medium.sigmaA + medium.sigmaS))
     m.Fail("scale", "sigma_a and sigma_s times scale are too large for a float");
   medium.g = m.NumberOr("g", 0.0f, kAsymmetry);
+  medium.emission = m.Vec3Or("emission", vec3(0.0f), Range::NonNegative());
+  if (m.Has("emission_grid") && !m.Has("emission"))
+    m.Fail("emission_grid", "scales an \"emission\": give the emitted radiance too");
   if (medium.type == MediumType::kGrid) {
     SparseGrid grid = GridSource(m, baseDir);
-    glm::dmat4 toWorld(m.Has("transform") ? ParseTransform(m.Object("transform")) : glm::mat4(1.0f));
+    glm::mat4 place = m.Has("transform") ? ParseTransform(m.Object("transform")) : glm::mat4(1.0f);
+    glm::dmat4 toWorld(place);
     try {
       medium.grid = AddGridLayout(grid, toWorld, &md);
     } catch (const GridLayoutError& e) {
       m.Fail(m.Has("file") ? "file" : "procedural", e.what());
     }
+    if (m.Has("emission_grid")) medium.emissionGrid = EmissionGrid(m, baseDir, toWorld, md);
     GridWorldBounds(grid, toWorld, &lo, &hi);
   }
   md.media.push_back(medium);

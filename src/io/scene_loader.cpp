@@ -12,6 +12,7 @@
 
 #include "src/geometry/box.h"
 #include "src/io/environment_loader.h"
+#include "src/io/gltf_loader.h"
 #include "src/io/gltf_variants.h"
 #include "src/io/image_io.h"
 #include "src/io/media_json.h"
@@ -505,6 +506,30 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   return scene;
 }
 
+// The files of the scene's "objects" and "meshes" entries, to parse ahead (none when the text
+// is not a scene the loader would read: its own errors name the field). Through the loader's
+// depth-limited parser: a deeply nested document must not overflow a recursive walk.
+static std::vector<std::string> TopLevelMeshFiles(const std::string& text,
+                                                  const std::string& path,
+                                                  const std::string& baseDir) {
+  std::vector<std::string> files;
+  try {
+    const Json json = ParseSceneJson(text, path);
+    for (const char* table : {"objects", "meshes"}) {
+      const auto it = json.find(table);
+      if (it == json.end()) continue;
+      for (const Json& entry : *it) {
+        if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string()) continue;
+        const fs::path file(entry["file"].get<std::string>());
+        files.push_back(file.is_absolute() ? file.string() : (fs::path(baseDir) / file).string());
+      }
+    }
+  } catch (const std::exception&) {
+    files.clear();
+  }
+  return files;
+}
+
 SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
   if (IsModelFile(path)) return LoadModelScene(path, options);
   std::error_code ec;
@@ -516,6 +541,10 @@ SceneDesc LoadScene(const std::string& path, const LoadOptions& options) {
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
   std::string baseDir = fs::path(path).parent_path().string();
+  // The scene's glTF files parse on threads of their own while the loader reads the scene;
+  // each file once, however often it is placed.
+  GltfParseCache parses;
+  parses.Prefetch(TopLevelMeshFiles(text.str(), path, baseDir));
   return LoadSceneFromString(text.str(), path, baseDir, options);
 }
 

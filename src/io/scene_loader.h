@@ -29,8 +29,8 @@ struct LoadOptions {
   bool environmentGiven = false;
   // --animation and --time: the pose of every glTF file the scene loads (each replaces a JSON
   // scene's "animation" and "time" fields); unset = the file's static pose.
-  std::string animation;
-  std::optional<double> time;
+  std::string animation = {};
+  std::optional<double> time = {};
   // --variant: the KHR_materials_variants variant of the model (of every glTF mesh of a JSON
   // scene that names none in its "variant" field); empty = the files' own materials.
   std::string variant{};

@@ -105,8 +105,9 @@ SparseGrid ReadVdbGrid(const std::string& path, const std::string& gridName) {
   return grid;
 }
 
-void WriteVdbGrid(const std::string& path, const std::string& gridName, const SparseGrid& grid) {
-  InitializeOpenVdb();
+namespace {
+
+openvdb::FloatGrid::Ptr ToVdb(const std::string& gridName, const SparseGrid& grid) {
   openvdb::FloatGrid::Ptr vdb = openvdb::FloatGrid::create(0.0f);
   vdb->setName(gridName);
   vdb->setGridClass(openvdb::GRID_FOG_VOLUME);
@@ -118,10 +119,19 @@ void WriteVdbGrid(const std::string& path, const std::string& gridName, const Sp
         acc.setValue(openvdb::Coord(b.origin.x + int(i % 8), b.origin.y + int((i / 8) % 8),
                                     b.origin.z + int(i / 64)),
                      b.values[i]);
+  return vdb;
+}
+
+}  // namespace
+
+void WriteVdbGrids(const std::string& path,
+                   const std::vector<std::pair<std::string, const SparseGrid*>>& grids) {
+  InitializeOpenVdb();
+  openvdb::GridPtrVec vdbs;
+  for (const auto& [name, grid] : grids) vdbs.push_back(ToVdb(name, *grid));
   try {
     openvdb::io::File file(path);
-    openvdb::GridPtrVec grids{vdb};
-    file.write(grids);
+    file.write(vdbs);
     file.close();
   } catch (const openvdb::Exception& e) {
     throw VdbError("cannot write \"" + path + "\": " + e.what());

@@ -5,6 +5,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "src/media/media_desc.h"
 
@@ -23,7 +25,12 @@ bool VdbSupported();
 // not linear or its background is not 0.
 SparseGrid ReadVdbGrid(const std::string& path, const std::string& gridName);
 
-// Writes grid as the float grid gridName of a new file (every non-zero voxel active).
-void WriteVdbGrid(const std::string& path, const std::string& gridName, const SparseGrid& grid);
+// Writes grids as the float grids of a new file (every non-zero voxel active).
+void WriteVdbGrids(const std::string& path,
+                   const std::vector<std::pair<std::string, const SparseGrid*>>& grids);
+inline void WriteVdbGrid(const std::string& path, const std::string& gridName,
+                         const SparseGrid& grid) {
+  WriteVdbGrids(path, {{gridName, &grid}});
+}
 
 }  // namespace pt

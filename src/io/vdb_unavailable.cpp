@@ -15,7 +15,8 @@ bool VdbSupported() { return false; }
 
 SparseGrid ReadVdbGrid(const std::string&, const std::string&) { throw VdbError(kNoOpenVdb); }
 
-void WriteVdbGrid(const std::string&, const std::string&, const SparseGrid&) {
+void WriteVdbGrids(const std::string&,
+                   const std::vector<std::pair<std::string, const SparseGrid*>>&) {
   throw VdbError(kNoOpenVdb);
 }
 

@@ -53,6 +53,7 @@ struct LightBounds {
   float phi = 0.0f;
   float cosTheta_o = 1.0f, cosTheta_e = 1.0f;
   bool twoSided = false;
+  bool flat = false;  // one-sided flat emitters whose normals are all w
 };
 
 // cos(max(0, a - b)) and sin(max(0, a - b)) of angles a, b in [0, pi] given their sin and cos.
@@ -69,35 +70,51 @@ PT_HDI float SinSubClamped(float sinA, float cosA, float sinB, float cosB) {
 // receiver's cosine when it has a normal. The angle the box subtends from the point widens
 // both cosine bounds, so a box near the point's horizon still counts.
 PT_HDI float LightImportance(const LightBounds& b, const LightRef& r) {
-  vec3 centre = 0.5f * (b.lo + b.hi);
+  vec3 centre = 0.5f * (b.lo + b.hi), half = 0.5f * (b.hi - b.lo);
   vec3 d = r.p - centre;
+  bool hasNormal = r.n.x != 0.0f || r.n.y != 0.0f || r.n.z != 0.0f;
   float dist2 = glm::dot(d, d);
-  float radius2 = 0.25f * glm::dot(b.hi - b.lo, b.hi - b.lo);
-  float d2 = fmaxf(dist2, radius2);
+  float radius2 = glm::dot(half, half);
+  // Exact for boxes, where the cone bounds below are loose near the point: flat emitters all
+  // facing away from it (each emits only where dot(w, p - x) > 0), or a box wholly below a
+  // one-sided receiver's horizon (light arrives only where dot(n, x - p) > 0). The node's axis
+  // is the emitters' normal rounded (octahedral, ~3e-5 rad), so the flat test keeps a slack of
+  // 1e-3 x a bound on |p - x|: a light seen at a grazing angle is never given importance 0.
+  constexpr float kFlatSlack = 1e-3f;
+  if (b.flat && glm::dot(b.w, d) + glm::dot(Abs(b.w), half) +
+                        kFlatSlack * sqrtf(2.0f * (dist2 + radius2)) <= 0.0f)
+    return 0.0f;
+  if (!r.twoSided && hasNormal && glm::dot(r.n, d) >= glm::dot(Abs(r.n), half)) return 0.0f;
+  float d2 = dist2 > radius2 ? dist2 : radius2;
   if (!(d2 > 0.0f)) return 0.0f;  // a point light at the point: no direction to it
-  vec3 wi = dist2 > 0.0f ? d / sqrtf(dist2) : vec3(0.0f);  // from the lights to the point
+  vec3 wi = dist2 > 0.0f ? d * (1.0f / sqrtf(dist2)) : vec3(0.0f);  // lights to the point
   // The cone of directions the box fills as seen from the point (all of them from inside).
+  // (Ternaries, not fmaxf: GCC calls libm for fmaxf on the host.)
   float sinB = 0.0f, cosB = -1.0f;
   if (dist2 > radius2) {
     float sin2B = radius2 / dist2;
     sinB = sqrtf(sin2B);
-    cosB = SafeSqrt(1.0f - sin2B);
+    cosB = sqrtf(1.0f - sin2B);
   }
-  float cosW = glm::dot(b.w, wi);
-  if (b.twoSided) cosW = fabsf(cosW);
-  float sinW = SafeSqrt(1.0f - cosW * cosW);
-  float sinO = SafeSqrt(1.0f - b.cosTheta_o * b.cosTheta_o);
-  // The smallest angle between an emitting normal and a direction to the point.
-  float cosX = CosSubClamped(sinW, cosW, sinO, b.cosTheta_o);
-  float sinX = SinSubClamped(sinW, cosW, sinO, b.cosTheta_o);
-  float cosP = CosSubClamped(sinX, cosX, sinB, cosB);
-  if (cosP <= b.cosTheta_e) return 0.0f;
+  float cosP = 1.0f;  // every emission direction reaches the point: omnidirectional lights
+  if (b.cosTheta_o > -1.0f) {
+    float cosW = glm::dot(b.w, wi);
+    if (b.twoSided) cosW = fabsf(cosW);
+    float sin2W = 1.0f - cosW * cosW, sin2O = 1.0f - b.cosTheta_o * b.cosTheta_o;
+    float sinW = sqrtf(sin2W > 0.0f ? sin2W : 0.0f), sinO = sqrtf(sin2O > 0.0f ? sin2O : 0.0f);
+    // The smallest angle between an emitting normal and a direction to the point.
+    float cosX = CosSubClamped(sinW, cosW, sinO, b.cosTheta_o);
+    float sinX = SinSubClamped(sinW, cosW, sinO, b.cosTheta_o);
+    cosP = CosSubClamped(sinX, cosX, sinB, cosB);
+    if (cosP <= b.cosTheta_e) return 0.0f;
+  }
   float importance = b.phi * cosP / d2;
-  if (r.n != vec3(0.0f)) {
+  if (hasNormal) {
     float cosI = -glm::dot(wi, r.n);
     if (r.twoSided) cosI = fabsf(cosI);
-    float sinI = SafeSqrt(1.0f - cosI * cosI);
-    importance *= fmaxf(0.0f, CosSubClamped(sinI, cosI, sinB, cosB));
+    float sin2I = 1.0f - cosI * cosI;
+    float cosR = CosSubClamped(sqrtf(sin2I > 0.0f ? sin2I : 0.0f), cosI, sinB, cosB);
+    importance *= cosR > 0.0f ? cosR : 0.0f;
   }
   return importance;
 }
@@ -112,6 +129,7 @@ PT_HDI LightBounds DecodeLightNode(const LightTreeView& t, const LightBvhNode& n
   b.cosTheta_o = DequantiseCos(n.cosines & kCosineSteps);
   b.cosTheta_e = DequantiseCos((n.cosines >> 15) & kCosineSteps);
   b.twoSided = ((n.cosines >> 30) & 1u) != 0;
+  b.flat = (n.cosines >> 31) != 0;
   return b;
 }
 

@@ -58,10 +58,12 @@ struct LightBuildBounds {
   double phi = 0.0;
   double cosTheta_e = 1.0;
   bool twoSided = false;
+  bool flat = false;  // one-sided flat emitters of normal exactly cone.w
   bool empty = true;
 
   void Add(const LightBuildBounds& o) {
     if (o.empty) return;
+    flat = (empty || (flat && cone.w == o.cone.w)) && o.flat;
     lo = glm::min(lo, o.lo);
     hi = glm::max(hi, o.hi);
     cone = empty ? o.cone : UnionCone(cone, o.cone);
@@ -80,6 +82,7 @@ LightBuildBounds ToBuild(const LightBounds& b) {
   o.phi = double(b.phi);
   o.cosTheta_e = double(b.cosTheta_e);
   o.twoSided = b.twoSided;
+  o.flat = b.flat;
   o.empty = false;
   return o;
 }
@@ -140,7 +143,8 @@ struct LightTreeBuilder {
     for (int dim = 0; dim < 3 && !balanced; ++dim) {
       if (!(extent[dim] > 0.0)) continue;
       LightBuildBounds bucket[kBuckets];
-      for (size_t i = begin; i < end; ++i) bucket[BucketOf(items[i], clo, extent, dim)].Add(items[i].b);
+      for (size_t i = begin; i < end; ++i)
+        bucket[BucketOf(items[i], clo, extent, dim)].Add(items[i].b);
       double kr = nodeExtent[dim] > 0.0 ? maxExtent / nodeExtent[dim] : 1.0;
       LightBuildBounds above[kBuckets];  // above[s]: buckets s to the last
       above[kBuckets - 1] = bucket[kBuckets - 1];
@@ -163,9 +167,10 @@ struct LightTreeBuilder {
       }
     }
     if (bestDim >= 0) {
-      auto mid = std::partition(items.begin() + begin, items.begin() + end, [&](const LightItem& it) {
+      auto below = [&](const LightItem& it) {
         return BucketOf(it, clo, extent, bestDim) <= bestBucket;
-      });
+      };
+      auto mid = std::partition(items.begin() + begin, items.begin() + end, below);
       size_t m = size_t(mid - items.begin());
       if (m > begin && m < end) return m;
     }
@@ -229,7 +234,7 @@ LightBvhNode PackNode(const LightBuildBounds& b, uint32_t child, const LightTree
   double thetaO = std::acos(std::clamp(b.cone.cosTheta, -1.0, 1.0));
   double cosO = b.cone.cosTheta <= -1.0 ? -1.0 : std::cos(std::min(M_PI, thetaO + 1e-4));
   n.cosines = QuantiseCosDown(float(cosO)) | (QuantiseCosDown(float(b.cosTheta_e)) << 15) |
-              (b.twoSided ? 1u << 30 : 0u);
+              (b.twoSided ? 1u << 30 : 0u) | (b.flat ? 1u << 31 : 0u);
   for (int a = 0; a < 3; ++a) {
     n.qlo[a] = QuantiseLo(b.lo[a], double(t.lo[a]), double(t.scale[a]));
     n.qhi[a] = QuantiseHi(b.hi[a], double(t.lo[a]), double(t.scale[a]));
@@ -278,6 +283,7 @@ std::optional<LightBounds> LightBoundsOf(const Scene& scene, size_t index) {
       if (!(glm::length(n) > 0.0f)) return std::nullopt;
       b.w = glm::normalize(n);
       b.cosTheta_o = 1.0f;
+      b.flat = !b.twoSided;
       return b;
     }
     case LightType::kPoint:
@@ -288,7 +294,8 @@ std::optional<LightBounds> LightBoundsOf(const Scene& scene, size_t index) {
       if (light.type == LightType::kSpot) {
         // Full intensity within the inner cone, none past the outer (Light::SpotFalloff).
         double s = light.spotScale, o = light.spotOffset;
-        double cosOuter = std::clamp(-o / s, -1.0, 1.0), cosInner = std::clamp((1.0 - o) / s, -1.0, 1.0);
+        double cosOuter = std::clamp(-o / s, -1.0, 1.0);
+        double cosInner = std::clamp((1.0 - o) / s, -1.0, 1.0);
         b.w = light.direction;
         b.cosTheta_o = float(cosInner);
         b.cosTheta_e = float(std::cos(std::max(0.0, std::acos(cosOuter) - std::acos(cosInner))));
@@ -321,11 +328,15 @@ void BuildLightBvh(Scene& scene) {
   if (items.empty()) return;
   scene.lightTrails.assign(bounded, 0);
   LightTreeBuilder builder{items, {}, {}, scene.lightTrails};
-  builder.bounds.resize(1);
-  builder.child.resize(1);
+  // Node 1 is padding (never reached), so every pair of siblings starts at an even index: one
+  // 64-byte line where the array is 64-byte aligned (device allocations are).
+  builder.bounds.resize(2);
+  builder.child.resize(2);
   LightBuildBounds all;
   for (const LightItem& it : items) all.Add(it.b);
   builder.Build(0, 0, items.size(), 0, 1, all);
+  builder.bounds[1] = builder.bounds[0];
+  builder.child[1] = builder.child[0];
   // The grid: the root's box, in 65535 steps per axis.
   const LightBuildBounds& root = builder.bounds[0];
   LightTreeView& t = scene.lightTree;
@@ -347,7 +358,7 @@ void BuildLightBvh(Scene& scene) {
 
 LightSampler ChooseLightSampler(LightSampler requested, const Scene& scene) {
   if (requested != LightSampler::kAuto) return requested;
-  size_t inTree = (size_t(scene.lightTree.nodeCount) + 1) / 2;  // one light per leaf
+  size_t inTree = scene.lightTree.nodeCount / 2;  // one light per leaf, one padding node
   return inTree >= kAutoBvhMinLights ? LightSampler::kBvh : LightSampler::kPower;
 }
 

@@ -21,7 +21,9 @@ struct alignas(16) LightBvhNode {
   float phi;          // summed intensity scale of the lights below (LightBoundsOf)
   uint32_t child;
   uint32_t axis;      // octahedral, x in the low 16 bits
-  uint32_t cosines;   // cos theta_o: bits 0-14, cos theta_e: bits 15-29, bit 30: two-sided
+  // cos theta_o: bits 0-14, cos theta_e: bits 15-29, bit 30: two-sided, bit 31: flat (every
+  // light below is a one-sided flat emitter of normal exactly `axis`, before its rounding)
+  uint32_t cosines;
   uint16_t qlo[3], qhi[3];
   uint32_t pad;
 

@@ -179,8 +179,11 @@ PT_HDI GltfLayered MakeGltfLayered(const LayeredMaterial& m) {
   float alpha = GgxAlpha(p.roughness);
   p.spec = AnisoGgx::Isotropic(alpha);
   if ((x.mask & kExtAnisotropy) && x.anisotropy > 0.0f) {
+    // alphaB at least the mirror threshold: a smooth material made anisotropic is a rough lobe
+    // (alphaT = strength^2) whose D must stay finite across the direction.
     float s = Clamp01(x.anisotropy);
-    p.spec = AnisoGgx{alpha + (1.0f - alpha) * s * s, alpha, x.anisotropyDir.x, x.anisotropyDir.y};
+    p.spec = AnisoGgx{alpha + (1.0f - alpha) * s * s, fmaxf(alpha, kSmoothAlpha),
+                      x.anisotropyDir.x, x.anisotropyDir.y};
   }
   p.specSmooth = p.spec.Smooth();
   SetDielectric(m, &p);
@@ -246,6 +249,26 @@ PT_HDI vec3 CoreReflection(const GltfLayered& p, vec3 wo, vec3 wi) {
 
 // ---- Eval ----
 
+// KHR_materials_iridescence on the transmission part: its reflection takes the film's
+// Fresnel instead of the glass's (mixed by the iridescence factor), its transmission what the
+// film's largest channel leaves, both relative to the glass Fresnel r that chose between them,
+// at the cosine on the air side: a thin wall's pair's mean (exact when smooth; reciprocal); a
+// volume's outside direction when light crosses, wo's when it reflects outside. Reflections
+// inside a volume keep the glass's Fresnel.
+PT_HDI vec3 TransmissionFilm(const GltfLayered& p, vec3 wo, vec3 wi) {
+  if (p.irid <= 0.0f) return vec3(1.0f);
+  bool crosses = wo.z * wi.z < 0.0f;
+  float c = 0.5f * (fabsf(wo.z) + fabsf(wi.z));
+  if (!p.core.thin) {
+    if (!crosses && wo.z < 0.0f) return vec3(1.0f);
+    c = crosses ? fmaxf(wo.z, wi.z) : wo.z;
+  }
+  float r = FresnelDielectric(c, p.core.glass.ior);
+  vec3 f = vec3(r) + p.irid * (ThinFilmFresnel(p.filmIor, p.thickness, p.f0d, c) - vec3(r));
+  if (!crosses) return r > 0.0f ? f / r : vec3(1.0f);
+  return vec3(r < 1.0f ? fmaxf(0.0f, 1.0f - MaxComponent(f)) / (1.0f - r) : 1.0f);
+}
+
 // The layers' scale for a pair, both mirrored to the front (the layers are two-sided).
 PT_HDI float BelowLayers(const GltfLayered& p, vec3 wo, vec3 wi) {
   LayerScale s = LayerScaleOf(p, wo.z < 0.0f ? FlipZ(wo) : wo, wi.z < 0.0f ? FlipZ(wi) : wi);
@@ -254,6 +277,7 @@ PT_HDI float BelowLayers(const GltfLayered& p, vec3 wo, vec3 wi) {
 
 PT_HDI vec3 EvalGltfLayeredLobes(const GltfLayered& p, vec3 wo, vec3 wi) {
   vec3 f = EvalGltfTransmission(p.core, wo, wi);  // any sides; zero without transmission
+  if (p.core.transWeight > 0.0f) f *= TransmissionFilm(p, wo, wi);
   if (wo.z < 0.0f) wo = FlipZ(wo), wi = FlipZ(wi);  // the opaque lobes are two-sided
   vec3 wiFront = wi.z < 0.0f ? FlipZ(wi) : wi;
   LayerScale s = LayerScaleOf(p, wo, wiFront);

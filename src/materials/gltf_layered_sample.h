@@ -81,7 +81,7 @@ PT_HDI bool SampleLayeredTransmission(const GltfLayered& p, const LayeredLobeCho
   GltfLobeChoice only{0.0f, 0.0f, 1.0f};
   if (!SampleGltfTransmission(p.core, only, wo, uc, u, s)) return false;
   if (!s->isDelta) return FinishLayeredSample(p, c, wo, s->wi, false, s);
-  s->f *= BelowLayers(p, wo, s->wi);
+  s->f *= BelowLayers(p, wo, s->wi) * TransmissionFilm(p, wo, s->wi);
   s->pdf *= c.trans;
   return s->pdf > 0.0f && !IsBlack(s->f);
 }

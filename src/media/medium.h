@@ -11,13 +11,20 @@ enum class MediumType : uint32_t { kHomogeneous = 0, kGrid = 1 };
 
 // One medium. Coefficients are per unit length in world units, the scene's "scale" already
 // applied; a grid medium's are those of density 1, multiplied by the grid's density.
+// Emission: radiance `emission` where the medium absorbs (the source term sigma_a Le), times
+// the value of emissionGrid (a grid of its own, e.g. a temperature) where it has one.
 struct Medium {
   MediumType type = MediumType::kHomogeneous;
   int32_t grid = -1;     // kGrid: index into MediaView::grids
   float g = 0.0f;        // Henyey-Greenstein asymmetry, in (-1, 1)
-  uint32_t pad = 0;
+  int32_t emissionGrid = -1;  // index into MediaView::grids, or -1: `emission` everywhere
   vec3 sigmaA = vec3(0.0f);
   vec3 sigmaS = vec3(0.0f);
+  vec3 emission = vec3(0.0f);
+
+  PT_HDI bool Emits() const {
+    return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
+  }
 };
 
 // A grid medium laid out for the GPU (docs/media.md): density on the voxels of a sparse grid

@@ -77,6 +77,7 @@ PT_HDI bool ApplySpectralFactor(vec3 v, vec3* beta, vec3* rHat) {
 // The medium's coefficients at a collision.
 struct MediumSample {
   vec3 sigmaA, sigmaS;
+  vec3 le;  // emitted radiance (0 unless the medium emits)
 };
 
 // Samples collisions along ray (t in [0, tMax)) with the hero channel's majorant, calling
@@ -103,13 +104,17 @@ PT_HDI vec3 SampleCollisions(const MediaView& mv, int32_t m, const Ray& ray, flo
         return true;
       }
       T *= ExpNeg(sigmaMaj, tc - t);
-      float d = g ? GridDensity(mv, *g, ray.o + tc * ray.d) : 1.0f;
-      if (!f(tc, MediumSample{d * med.sigmaA, d * med.sigmaS}, sigmaMaj, T)) return false;
+      vec3 p = ray.o + tc * ray.d;
+      float d = g ? GridDensity(mv, *g, p) : 1.0f;
+      vec3 le = med.emission;
+      if (med.emissionGrid >= 0) le *= GridDensity(mv, mv.grids[med.emissionGrid], p);
+      if (!f(tc, MediumSample{d * med.sigmaA, d * med.sigmaS, le}, sigmaMaj, T)) return false;
       T = vec3(1.0f);
       t = tc;
     }
   };
-  if (med.type == MediumType::kHomogeneous) return stretch(0.0f, tMax, 1.0f, nullptr) ? T : vec3(0.0f);
+  if (med.type == MediumType::kHomogeneous)
+    return stretch(0.0f, tMax, 1.0f, nullptr) ? T : vec3(0.0f);
   const GridMedium& g = mv.grids[med.grid];
   GridMajorantWalk walk(mv, g, ray, 0.0f, tMax);
   MajorantSegment seg;
@@ -127,12 +132,20 @@ struct TrackResult {
 };
 
 // Delta tracking for a path through medium m over [0, tMax): absorbs, scatters (beta and
-// rHat then include the scattering coefficient) or passes (with the stretch's weights).
+// rHat then include the scattering coefficient) or passes (with the stretch's weights). An
+// emitting medium adds its emission at every collision to *radiance when `emit` (pbrt-v4's
+// estimator: beta sigma_a Le over the collision's majorant density, with spectral MIS).
 PT_HDI TrackResult DeltaTrack(const MediaView& mv, int32_t m, const Ray& ray, float tMax, int h,
-                              MediumRng& rng, vec3* beta, vec3* rHat) {
+                              MediumRng& rng, vec3* beta, vec3* rHat, bool emit,
+                              vec3* radiance) {
   TrackResult r;
+  emit = emit && mv.media[m].Emits();
   vec3 T = SampleCollisions(mv, m, ray, tMax, h, rng,
                             [&](float t, const MediumSample& ms, vec3 sigmaMaj, vec3 Tmaj) {
+    if (emit) {
+      float a = Average(*rHat * sigmaMaj * Tmaj);
+      if (a > 0.0f) *radiance += *beta * Tmaj * ms.sigmaA * ms.le / a;
+    }
     float pAbsorb = ms.sigmaA[h] / sigmaMaj[h], pScatter = ms.sigmaS[h] / sigmaMaj[h];
     float u = rng.Next();
     r.t = t;

@@ -20,8 +20,10 @@ const AppBackends& Backends() {
   static const AppBackends backends = [] {
     AppBackends b;
     b.cpuSession = &MakeCpuSession;
+    b.cpuDenoiser = &MakeCpuDenoiser;
 #if defined(PT_HAVE_CUDA)
     b.cudaSession = &MakeCudaSession;
+    b.cudaDenoiser = &MakeCudaDenoiser;
 #endif
     b.cudaDeviceCount = &CudaDeviceCount;
     return b;
@@ -118,6 +120,7 @@ struct PyResult {
       extra["normal"] = FilmArray(film, film->normal, 3);
       extra["depth"] = FilmArray(film, film->depth, 1);
     }
+    if (!film->denoised.empty()) extra["denoised"] = FilmArray(film, film->denoised, 3);
     aovs = extra;
     return aovs;
   }
@@ -129,7 +132,16 @@ struct PyResult {
       throw std::invalid_argument(file + ": unknown image format (use .png, .exr or .pfm)");
     }
     py::gil_scoped_release release;
-    WriteImage(file, *film, format == ImageFormat::kExr);  // an EXR keeps variance and AOVs
+    bool exr = format == ImageFormat::kExr;
+    if (!exr && !film->denoised.empty()) {  // denoise=True: as the CLI's -o, the denoised image
+      FilmImage shown;
+      shown.width = film->width;
+      shown.height = film->height;
+      shown.rgb = film->denoised;
+      WriteImage(file, shown, false);
+      return;
+    }
+    WriteImage(file, *film, exr);  // an EXR keeps variance and AOVs (and denoised.R/G/B)
   }
 
   double Spp() const { return stats["spp_mean"].cast<double>(); }
@@ -299,7 +311,8 @@ PYBIND11_MODULE(pathtracer, m) {
   BindResult(m);
   m.def("render", &Render, py::arg("scene"),
         "render(scene, **options) -> Result. Options are the command line's (max_depth for "
-        "--max-depth), plus aovs=True (first-hit albedo, normal and depth).");
+        "--max-depth), plus aovs=True (first-hit albedo, normal and depth); denoise=True adds "
+        "aovs['denoised'].");
   m.def("render_progressive",
         [](py::object scene, std::optional<std::vector<uint32_t>> steps, const py::kwargs& kw) {
           return std::make_unique<PyProgressive>(std::move(scene), std::move(steps), kw);

@@ -8,6 +8,7 @@
 #include "src/geometry/aabb.h"
 #include "src/geometry/bvh.h"
 #include "src/geometry/bvh_wide.h"
+#include "src/geometry/lbvh_build.h"
 #include "src/geometry/shapes.h"
 #include "src/lights/light_table.h"
 #include "src/materials/surface_attributes.h"
@@ -116,8 +117,28 @@ PrimClipper MakeClipper(const SceneDesc& d, const std::vector<PrimRef>& prims,
 
 }  // namespace
 
-const char* BvhBuilderName(BvhBuilder b) { return b == BvhBuilder::kSbvh ? "sbvh" : "sah"; }
+const char* BvhBuilderName(BvhBuilder b) {
+  switch (b) {
+    case BvhBuilder::kSbvh: return "sbvh";
+    case BvhBuilder::kLbvh: return "gpu";
+    case BvhBuilder::kAuto: return "auto";
+    default: return "sah";
+  }
+}
 const char* BvhLayoutName(BvhLayout l) { return l == BvhLayout::kWide ? "wide" : "binary"; }
+
+// The binary tree the layout is made from: the linear BVH (on the options' device; else, asked
+// for explicitly, on the host's threads, the same bodies) or the SAH builder's. auto takes the
+// linear BVH only for a mesh of kLbvhAutoPrims+ primitives that a device built.
+static BvhBuildResult BuildBinaryTree(const std::vector<Aabb>& bounds,
+                                      const BvhBuildOptions& options, const PrimClipper& clip) {
+  BvhBuildResult bvh;
+  const bool lbvh = options.builder == BvhBuilder::kLbvh ||
+                    (options.builder == BvhBuilder::kAuto && bounds.size() >= kLbvhAutoPrims);
+  if (lbvh && options.deviceLbvh && options.deviceLbvh(bounds, &bvh)) return bvh;
+  if (options.builder == BvhBuilder::kLbvh) return BuildLbvhHost(bounds, options.threads);
+  return BuildBvh(bounds, options, kBvhMaxDepth, clip);
+}
 
 LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unordered,
                          const std::vector<Aabb>& bounds, const BvhBuildOptions& options) {
@@ -125,18 +146,25 @@ LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unorder
   if (options.builder == BvhBuilder::kSbvh) clip = MakeClipper(d, unordered, bounds);
   LayoutBvh out;
   if (options.layout == BvhLayout::kWide) {
-    // A full binary tree: the collapse chooses the leaves (of at most 3 primitives) itself.
-    BvhBuildOptions binary = options;
-    binary.maxLeafSize = 1;
-    BvhBuildResult bvh = BuildBvh(bounds, binary, kBvhMaxDepth, clip);
-    WideBvhResult wide = CollapseToWide(bvh, bounds, options.threads, options.maxLeafSize);
+    // The linear BVH collapsed where it was built (the GPU), when it can be.
+    WideBvhResult wide;
+    const bool lbvh = options.builder == BvhBuilder::kLbvh ||
+                      (options.builder == BvhBuilder::kAuto && bounds.size() >= kLbvhAutoPrims);
+    if (!(lbvh && options.maxLeafSize >= 3 && options.deviceWideLbvh &&
+          options.deviceWideLbvh(bounds, &wide))) {
+      // A full binary tree: the collapse chooses the leaves (of at most 3 primitives) itself.
+      BvhBuildOptions binary = options;
+      binary.maxLeafSize = 1;
+      BvhBuildResult bvh = BuildBinaryTree(bounds, binary, clip);
+      wide = CollapseToWide(bvh, bounds, options.threads, options.maxLeafSize);
+    }
     out.wideNodes = std::move(wide.nodes);
     out.sahCost = wide.sahCost;
     out.depth = wide.maxDepth;
     out.order = std::move(wide.primOrder);
     return out;
   }
-  BvhBuildResult bvh = BuildBvh(bounds, options, kBvhMaxDepth, clip);
+  BvhBuildResult bvh = BuildBinaryTree(bounds, options, clip);
   out.nodes = std::move(bvh.nodes);
   out.sahCost = BinarySahCost(out.nodes);
   out.depth = bvh.maxDepth;

@@ -3,9 +3,11 @@
 // A backend turns a Scene into a SceneView by copying each array to its memory.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "src/geometry/aabb.h"
 #include "src/media/media_desc.h"
 #include "src/scene/scene_view.h"
 
@@ -160,7 +162,15 @@ struct SceneDesc {
 enum class BvhBuilder : uint32_t {
   kSah = 0,   // binned SAH over centroids (Wald 2007): the default
   kSbvh = 1,  // binned SAH plus spatial splits (Stich, Friedrich, Dietrich 2009)
+  kLbvh = 2,  // linear BVH from Morton codes (Karras 2012; src/geometry/lbvh.h): --bvh-build gpu
+  kAuto = 3,  // kLbvh for meshes of kLbvhAutoPrims+ primitives with a device runner, else kSah
 };
+
+struct BvhBuildResult;
+struct WideBvhResult;
+// kLbvh and kAuto pick the linear BVH where the BVH build would dominate the time to the
+// image and a GPU builds it (docs/bvh.md): from this many primitives.
+constexpr size_t kLbvhAutoPrims = size_t(1) << 20;
 
 struct BvhBuildOptions {
   int maxLeafSize = 4;  // binary layout (the wide layout's leaves hold at most 3)
@@ -171,6 +181,12 @@ struct BvhBuildOptions {
   BvhBuilder builder = BvhBuilder::kSah;
   BvhLayout layout = BvhLayout::kBinary;
   int threads = 0;  // build threads; 0 = all cores
+  // kLbvh: builds on a device (the app's; false when it has none: the host's threads build),
+  // the binary tree, or for the wide layout the wide one (collapsed there too).
+  std::function<bool(const std::vector<Aabb>& bounds, BvhBuildResult* out)> deviceLbvh =
+      nullptr;
+  std::function<bool(const std::vector<Aabb>& bounds, WideBvhResult* out)> deviceWideLbvh =
+      nullptr;
 };
 
 const char* BvhBuilderName(BvhBuilder b);

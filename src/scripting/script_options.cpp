@@ -42,6 +42,11 @@ CliOptions OptionsFromKeywords(const OptionKeywords& keywords) {
         throw UnknownOptionError("'" + keyword + "' is not a render option here: " + instead);
       }
     }
+    if (keyword == "denoise") {  // the CLI's --denoise, a flag: here True or False
+      if (value != "on" && value != "off") throw CliError("denoise takes True or False");
+      options.denoise = value == "on";
+      continue;
+    }
     bool wellFormed = !keyword.empty() && keyword.find('-') == std::string::npos;
     try {
       if (!wellFormed) throw CliError("unknown option");

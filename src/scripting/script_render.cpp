@@ -4,6 +4,7 @@
 #include <chrono>
 #include <optional>
 
+#include "src/app/denoise_step.h"
 #include "src/app/run_steps.h"
 #include "src/distributed/chunked_render.h"
 
@@ -55,11 +56,18 @@ ScriptSetup SetUpScriptRender(const ScriptRequest& request, const Scene& scene, 
   s.backend = ChooseBackend(request.cli.backend, backends);
   s.factory = s.backend == BackendKind::kCuda ? backends.cudaSession : backends.cpuSession;
   s.options = MakeRenderOptions(request.cli, s.backend, nullptr);
-  s.options.featureBuffers = request.featureBuffers;
+  s.options.featureBuffers = request.featureBuffers || request.cli.denoise;  // denoise reads them
   s.options.timeLimitSeconds = 0.0;     // ScriptStop's
   s.options.previewEverySeconds = 0.0;  // refused as a keyword; never on here
   CheckChunkOptions(request.cli, scene, s.options, false);
   return s;
+}
+
+// denoise=True: image.denoised, and its time in the statistics (quietly: no stderr line).
+void DenoiseScriptImage(Denoiser* denoiser, FilmImage& image, AppTimes* times) {
+  if (!denoiser) return;
+  denoiser->Denoise(image);
+  times->denoiseMs = denoiser->LastMs();
 }
 
 uint64_t CropPixels(const Scene& scene, const RenderOptions& options) {
@@ -107,6 +115,9 @@ ScriptResult RenderScript(ScriptScene& scene, const ScriptRequest& request,
   } else {
     result = setup.factory(built, setup.options, callbacks)->Render();
   }
+  std::unique_ptr<Denoiser> denoiser =
+      MakeAppDenoiser(request.cli, setup.backend, backends, setup.options.device);
+  DenoiseScriptImage(denoiser.get(), result.image, &times);
   ScriptResult out;
   out.stopped = stop.StoppedByUser();
   uint64_t wanted = CropPixels(built, setup.options) * uint64_t(built.desc.render.spp);
@@ -155,6 +166,7 @@ ProgressiveScript::ProgressiveScript(ScriptScene& scene, ScriptRequest request,
   callbacks.shouldStop = [stop] { return (*stop)(); };
   pixels_ = CropPixels(*built_, setup.options);
   session_ = setup.factory(*built_, setup.options, callbacks);
+  denoiser_ = MakeAppDenoiser(request_.cli, backend_, backends, setup.options.device);
 }
 
 ProgressiveScript::~ProgressiveScript() = default;
@@ -173,6 +185,8 @@ bool ProgressiveScript::Next(ScriptResult* out) {
   *out = ScriptResult{};
   out->stopped = stop_->StoppedByUser();
   out->image = session_->Image();
+  AppTimes times = times_;
+  DenoiseScriptImage(denoiser_.get(), out->image, &times);
   RenderStats stats = session_->Stats();
   stats.samples = SamplesIn(out->image);
   stats.sppMean = double(stats.samples) / double(std::max<uint64_t>(1, pixels_));
@@ -180,7 +194,6 @@ bool ProgressiveScript::Next(ScriptResult* out) {
                        : stop_->TimeUp()              ? "time_limit"
                        : next_ < steps_.size()      ? "in_progress"
                                                       : "completed";
-  AppTimes times = times_;
   times.totalMs = MsFrom(start_);
   RunReport report = ScriptReport(request_, scene_, *built_, "pathtracer.render_progressive",
                                   reason, backend_);

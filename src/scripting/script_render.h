@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "src/app/run.h"
+#include "src/denoise/denoiser.h"
 #include "src/scripting/script_options.h"
 #include "src/scripting/script_scene.h"
 
@@ -62,6 +63,7 @@ class ProgressiveScript {
   uint64_t version_ = 0;
   AppTimes times_;
   std::unique_ptr<RenderSession> session_;
+  std::unique_ptr<Denoiser> denoiser_;  // denoise=True: each step's film
   std::vector<uint32_t> steps_;
   size_t next_ = 0;
   uint32_t spp_ = 0;

@@ -215,7 +215,7 @@ ScriptScene::BuildKey ScriptScene::KeyFor(const CliOptions& cli,
   BuildKey key;
   key.envPath = cli.envPath;
   key.envStrength = cli.envStrength;
-  key.bvh = ChooseBvh(cli);
+  key.bvh = ChooseBvh(cli, AppBackends{});  // the host builds (no device LBVH here)
   if (base_.camera.autoFrame) {  // until a camera edit replaces it
     key.autoFrameAspect = float(render.width) / float(std::max(1, render.height));
   }
@@ -247,6 +247,7 @@ void ScriptScene::Rebuild(const CliOptions& cli, const RenderSettings& render,
 
 const Scene& ScriptScene::Prepare(const CliOptions& cli, AppTimes* times) {
   *times = AppTimes{};
+  times->bvhBuilder = BuilderThatRan(cli, false);  // the module builds on the host
   RenderSettings render = base_.render;
   ApplyCliOverrides(cli, &render);
   BuildKey key = KeyFor(cli, render);

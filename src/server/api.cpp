@@ -85,13 +85,16 @@ ApiResponse Download(std::string body, const std::string& type, const std::strin
   return r;
 }
 
-// The PNG is what the page shows (exposure and tone mapping); the EXR stays linear.
+// The PNG is what the page shows (exposure, tone mapping, denoising); the EXR stays linear
+// (with the denoised layer when it has one).
 ApiResponse ImageDownload(LiveRender& live, ImageFormat format) {
   std::shared_ptr<const FilmImage> image = live.LatestImage();
   if (!image) return ErrorResponse(503, "no image yet");
   if (format == ImageFormat::kPng) {
+    bool denoised = live.Denoising() && !image->denoised.empty();
     return Download(EncodePng8("preview.png", image->width, image->height,
-                               DisplayPixels(image->rgb, live.Display())),
+                               DisplayPixels(denoised ? image->denoised : image->rgb,
+                                             live.Display())),
                     "image/png", "preview.png");
   }
   return Download(EncodeImage("preview", *image, format, true), "image/x-exr", "preview.exr");

@@ -30,6 +30,11 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
   targetSpp_ = uint32_t(scene_.desc.render.spp);
   options_.crop = CropWindow{};
   options_.adaptive = Toggle::kOff;
+  if (settings_.makeDenoiser) {
+    denoiser_ = settings_.makeDenoiser();
+    options_.featureBuffers = options_.halfFilms = true;
+    denoise_ = settings_.denoise;
+  }
   requestedOptions_ = options_;
   RenderCallbacks callbacks;
   callbacks.shouldStop = [this] { return editsWaiting_.load() || stop_.load(); };
@@ -65,13 +70,17 @@ void LiveRender::Stop() {
 std::shared_ptr<const FilmImage> LiveRender::FinalImage(uint32_t* spp) {
   *spp = 0;
   if (renderThread_.joinable()) return nullptr;  // only after Stop
+  std::shared_ptr<const FilmImage> image;
   if (filmHoldsCoarse_ || spp_ == 0) {
     std::lock_guard<std::mutex> lock(frameMutex_);
     if (image_) *spp = image_->samples.empty() ? 0u : image_->samples[0];
-    return image_;
+    image = image_;
+  } else {
+    *spp = spp_;
+    image = std::make_shared<const FilmImage>(session_->Image());
   }
-  *spp = spp_;
-  return std::make_shared<const FilmImage>(session_->Image());
+  double ms;  // the encoder has stopped: the denoiser is free
+  return image ? Displayed(image, &ms) : image;
 }
 
 // ---- Reading ----------------------------------------------------------------------------------

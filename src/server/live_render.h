@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "src/denoise/denoiser.h"
 #include "src/integrator/render_session.h"
 #include "src/io/tone_mapping.h"
 #include "src/server/change_feed.h"
@@ -49,9 +50,10 @@ struct LiveSettings {
   double coarseFrameMs = 25.0;
   std::vector<NamedCamera> cameras;  // after the scene's own camera (a model file's)
   std::string environmentFolder;     // where the lighting picker's maps are listed from
-  // The preview can show frames denoised (options "denoise": display only). Set by whoever
-  // gives the preview a denoiser; without one the page hides the toggle.
-  bool denoiseAvailable = false;
+  // The denoiser frames may be shown through (options "denoise": display only), or null: with
+  // one, the film keeps the features and half films it reads; without, the page hides the toggle.
+  std::function<std::unique_ptr<Denoiser>()> makeDenoiser;
+  bool denoise = false;  // frames denoised from the start (--serve --denoise)
 };
 
 // A tone-mapped frame as the page receives it, with the statistics it was made with.
@@ -103,6 +105,7 @@ class LiveRender {
   int Width() const { return width_; }
   int Height() const { return height_; }
   DisplaySettings Display() const;
+  bool Denoising() const { return denoiser_ && denoise_; }  // frames are shown denoised
   ChangeFeed& Feed() { return feed_; }
   // The selected object's outline as an RGBA PNG of at most maxSide pixels a side (empty when
   // nothing is selected): src/server/live_outline.cpp.
@@ -114,8 +117,8 @@ class LiveRender {
   EditAnswer EditCamera(const Json& fields);
   EditAnswer ChooseCamera(size_t index);  // 0: the scene's own camera
   EditAnswer FrameSelected();             // the camera turned to fit the selected object
-  // compact, sort, integrator, specialize, light_sampler, max_depth, spp; denoise when the
-  // preview has a denoiser.
+  // compact, sort, integrator, specialize, light_sampler, max_depth, spp; denoise (display
+  // only: true shows every full-resolution frame denoised, when the preview has a denoiser).
   EditAnswer EditOptions(const Json& fields);
   EditAnswer EditMaterial(size_t index, const Json& fields);
   // An instance object is re-placed through the top level (RebuildTopLevel, no mesh touched);
@@ -132,6 +135,7 @@ class LiveRender {
   void Stop();
   // After Stop: the film as it stands, or the last full frame's image when the film holds no
   // whole sample (an edit had just restarted it); null when there is none. *spp: its samples.
+  // With denoising on, the image carries the denoised layer.
   std::shared_ptr<const FilmImage> FinalImage(uint32_t* spp);
 
  private:
@@ -170,7 +174,10 @@ class LiveRender {
   void RenderPass();
   void Publish(const std::string& statsJson, bool coarse, std::shared_ptr<const FilmImage> image);
   void EncodeLoop();
-  void EncodeAgain();
+  void EncodeAgain();  // the shown image as a frame again (a display setting changed)
+  // The frame's image: the film's, or with the denoised layer added when denoising is on (its
+  // time in ms in *ms, else -1). Encoder thread (or after Stop) only.
+  std::shared_ptr<const FilmImage> Displayed(std::shared_ptr<const FilmImage> image, double* ms);
   std::string StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const;
   Json ListMaps() const;
 
@@ -227,6 +234,7 @@ class LiveRender {
   std::shared_ptr<const FilmImage> image_;       // the last full-resolution image
   std::shared_ptr<const FilmImage> shownImage_;  // the image of frame_ (maybe coarse)
   std::string progressJson_ = "{}";               // guarded by frameMutex_
+  std::unique_ptr<Denoiser> denoiser_;  // used by the encoder thread only (and after Stop)
 
   ChangeFeed feed_;
   std::thread renderThread_, encodeThread_;

@@ -122,9 +122,7 @@ EditAnswer LiveRender::EditOptions(const Json& fields) {
             spp = Integer(value, "spp");
           } else if (key == "denoise") {
             if (!value.is_boolean()) throw EditError(400, "denoise must be true or false", key);
-            if (!settings_.denoiseAvailable) {
-              throw EditError(422, "this preview has no denoiser", key);
-            }
+            if (!denoiser_) throw EditError(422, "this preview has no denoiser", key);
             denoise = value.get<bool>();
           } else {
             throw EditError(400, "unknown option \"" + key +
@@ -151,12 +149,11 @@ EditAnswer LiveRender::EditOptions(const Json& fields) {
           p.options = o;
           p.restart = true;
         }
+        // Here (all checked, under the document's lock): the state the feed announces has it.
+        if (denoise) denoise_ = *denoise;
       },
       ChangeFeed::kState);
-  if (denoise) {
-    denoise_ = *denoise;
-    EncodeAgain();
-  }
+  if (denoise) EncodeAgain();  // the frame shown, denoised or not
   return answer;
 }
 
@@ -260,7 +257,7 @@ std::string LiveRender::DescribeJson() const {
   j["render"] = document_.RenderJson();
   j["options"] = OptionsJson(requestedOptions_);
   j["options"]["denoise"] = denoise_.load();
-  j["options"]["denoise_available"] = settings_.denoiseAvailable;
+  j["options"]["denoise_available"] = denoiser_ != nullptr;
   Json cameras = Json::array();
   for (size_t i = 0; i < cameras_.size(); ++i) {
     cameras.push_back(Json{{"index", i}, {"name", cameras_[i].name}});
@@ -301,7 +298,7 @@ std::string LiveRender::StateJson() const {
   Json options = OptionsJson(requestedOptions_);
   options["max_depth"] = document_.RenderJson()["max_depth"];
   options["spp"] = document_.RenderJson()["spp"];
-  if (settings_.denoiseAvailable) options["denoise"] = denoise_.load();
+  if (denoiser_) options["denoise"] = denoise_.load();
   j["options"] = options;
   j["display"] = Json{{"exposure", display_.exposure},
                       {"tone_mapping", ToneMappingName(display_.toneMapping)}};

@@ -261,9 +261,17 @@ void LiveRender::EncodeLoop() {
     frame->width = job.image->width;
     frame->height = job.image->height;
     Json stats = Json::parse(job.statsJson);
+    bool full = job.image->width == width_ && job.image->height == height_;
     try {
+      double denoiseMs = -1.0;
+      if (full) job.image = Displayed(job.image, &denoiseMs);
+      bool denoised = denoise_ && !job.image->denoised.empty();
       frame->jpeg = EncodeJpeg(job.image->width, job.image->height,
-                               DisplayPixels(job.image->rgb, Display()), settings_.jpegQuality);
+                               DisplayPixels(denoised ? job.image->denoised : job.image->rgb,
+                                             Display()),
+                               settings_.jpegQuality);
+      if (denoiseMs >= 0.0) stats["denoise_ms"] = denoiseMs;  // a re-encode keeps its frame's
+      if (!denoised) stats.erase("denoise_ms");
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());
     }
@@ -278,13 +286,30 @@ void LiveRender::EncodeLoop() {
     lock.lock();
     frame_ = std::move(frame);
     shownImage_ = job.image;
-    if (job.kind == "render") image_ = job.image;
+    // A re-encode of the last full frame keeps the denoised layer it may have gained.
+    if (job.kind == "render" || (job.kind == "display" && full)) image_ = job.image;
     progressJson_ = frame_->statsJson;
     frameReady_.notify_all();
     lock.unlock();
     feed_.Bump(ChangeFeed::kProgress);
     lock.lock();
   }
+}
+
+// Coarse frames are never denoised (they carry no features); a denoiser that fails says so and
+// the frame shows the film.
+std::shared_ptr<const FilmImage> LiveRender::Displayed(std::shared_ptr<const FilmImage> image,
+                                                       double* ms) {
+  *ms = -1.0;
+  if (!denoise_ || !denoiser_ || !image->denoised.empty()) return image;
+  if (std::string problem = DenoiseInputProblem(*image); !problem.empty()) {
+    std::fprintf(stderr, "pathtracer: serve: not denoised: %s\n", problem.c_str());
+    return image;
+  }
+  auto denoised = std::make_shared<FilmImage>(*image);
+  denoiser_->Denoise(*denoised);
+  *ms = denoiser_->LastMs();
+  return denoised;
 }
 
 }  // namespace pt

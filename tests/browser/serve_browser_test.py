@@ -3,7 +3,8 @@
 extra packages): the page converges past a few spp, a drag orbits the camera (the image changes
 and the accumulation starts over), a click selects the tall box and a drag moves it, its material
 is edited through the page's form, and the compaction flag is switched off. Then (issue 33): a
-second page stays in step with the first (camera and flags), the target spp lowered below the
+second page stays in step with the first (camera and flags; D on the first turns the server's
+denoise on, the second's box follows and the first's frames are denoised), the target spp lowered below the
 current count ends the render there and says so, a rejected max depth goes back to the value in
 force with its message next to the field, frames arrive during a 30 Hz drag (a bare relative
 path served from its folder, at a size whose samples are slow enough for coarse frames), a .glb
@@ -95,6 +96,11 @@ class DevTools:
         self.call("Input.dispatchMouseEvent",
                   {"type": kind, "x": x, "y": y, "button": "left" if kind != "mouseMoved" or buttons
                    else "none", "buttons": buttons, "clickCount": 1 if kind != "mouseMoved" else 0})
+
+    def key(self, key, code):
+        for kind in ("keyDown", "keyUp"):
+            self.call("Input.dispatchKeyEvent", {"type": kind, "key": key, "code": code,
+                                                 "windowsVirtualKeyCode": ord(key.upper())})
 
     def drag(self, x0, y0, dx, dy, steps=8):
         self.mouse("mousePressed", x0, y0, 1)
@@ -293,7 +299,18 @@ def two_pages(dt, port, out, page_a, rect):
     dt.screenshot(os.path.join(out, "5_second_page.png"))
     print(f"second page in step: camera {b['camera']['position']}, sort {b['sort']}, exposure "
           f"{b['exposure']} (also after a reload)")
+    # D on page A: the server's denoise option, shown on page B; page A's frames denoised.
     dt.use(page_a)
+    assert dt.eval("!document.getElementById('f-denoise-row').hidden"), "no denoise toggle shown"
+    dt.key("d", "KeyD")
+    denoise_ms = wait_for(lambda: dt.eval("preview.stats && preview.stats.denoise_ms"),
+                          "a denoised frame")
+    dt.use(page_b)
+    wait_for(lambda: dt.eval("document.getElementById('f-denoise').checked"), "page B's denoise box")
+    dt.use(page_a)
+    print(f"D pressed on page A: page B shows denoise on; frames denoised in {denoise_ms:.1f} ms")
+    dt.key("d", "KeyD")
+    wait_for(lambda: dt.eval("preview.state.options.denoise === false"), "denoise off again")
 
 
 def lowered_spp_and_rejected_value(dt, out):

@@ -83,8 +83,8 @@ def test_options_rebuild_only_what_they_change(cornell):
 
 def test_model_file_camera_edit():
     scene = pathtracer.Scene(SCENES / "meshes" / "smooth_shapes.glb")
-    framed = scene.camera  # the automatic camera, as framed
     before = render(scene)
+    framed = scene.camera  # the automatic camera, as framed for this render's aspect
     scene.set_camera(fov_y=framed["fov_y"] / 2)
     assert scene.camera["position"] == framed["position"]
     assert not np.array_equal(render(scene), before)

@@ -20,6 +20,8 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   vec3 m2 = film.mean ? film.m2[pixel] : vec3(0.0f);
   glm::dvec3 meanD = film.meanDouble ? film.meanDouble[pixel] : glm::dvec3(0.0);
   glm::dvec3 m2D = film.meanDouble ? film.m2Double[pixel] : glm::dvec3(0.0);
+  vec3 evenSum = film.evenSum ? film.evenSum[pixel] : vec3(0.0f);
+  uint32_t evenCount = film.evenSum ? film.evenCount[pixel] : 0u;
   uint32_t nonfinite = 0;
   for (uint32_t s = 0; s < wave.samplesInWave; ++s) {
     uint32_t id = s * wave.pixelCount + localPixel;
@@ -34,10 +36,15 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
     if (film.meanDouble) WelfordAdd(meanD, m2D, glm::dvec3(l), double(n));
     else WelfordAdd(mean, m2, l, float(n));
     WelfordAdd(lumMean, lumM2, Luminance(l), float(n));
+    // The half film of even sample indices (global ones: chunks and resumes agree).
+    if (film.evenSum && ((wave.sampleStart + s) & 1u) == 0u) {
+      evenSum += l;
+      ++evenCount;
+    }
     if (film.albedoSum) {
       film.albedoSum[pixel] += ps.featureAlbedo[id];
       film.normalSum[pixel] += ps.featureNormal[id];
-      film.depthSum[pixel] += ps.featureDepth[id];
+      film.depthSum[pixel] += fabsf(ps.featureDepth[id]);  // negative: pending (shade.h)
     }
   }
   if (film.meanDouble) {
@@ -50,6 +57,10 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   film.lumMean[pixel] = lumMean;
   film.lumM2[pixel] = lumM2;
   film.sampleCount[pixel] = n;
+  if (film.evenSum) {
+    film.evenSum[pixel] = evenSum;
+    film.evenCount[pixel] = evenCount;
+  }
   if (nonfinite && counters) AddToCounter(&counters[kCounterNonfinite], nonfinite);
 }
 

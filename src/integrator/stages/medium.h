@@ -166,7 +166,8 @@ PT_HDI void SampleMediumPath(const SceneView& scene, const MediaView& mv,
   for (uint32_t n = 0;; ++n) {
     if (m >= 0) {
       float tSeg = hit.prim == HitRecord::kNoHit ? kInfinity : hit.t - tBase;
-      TrackResult r = DeltaTrack(mv, m, Ray{o, ray.d}, tSeg, hero, rng, &beta, &rHat);
+      TrackResult r = DeltaTrack(mv, m, Ray{o, ray.d}, tSeg, hero, rng, &beta, &rHat,
+                                 params.Counts(depth), &radiance);
       if (r.event == MediumEvent::kAbsorbed) {
         if (params.featureBuffers && depth == 0)
           WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), tBase + r.t);

@@ -215,13 +215,35 @@ PT_HDI PathVertex PathVertexOf(PathState ps, uint32_t id, uint32_t flags, bool i
                     ps.prevPdf[id]};
 }
 
+// Features describe the first non-specular vertex (NFOR's and Cycles' choice): a mirror or
+// smooth glass says little about what the pixel shows, so the features look on through delta
+// bounces. While they do, the depth kept is minus the distance so far (the film adds its
+// magnitude, should the path end there). Due at the camera ray's hit, and after delta bounces
+// only while the features are pending.
+PT_HDI bool FeaturesDue(PathState ps, uint32_t id, const PathVertex& v) {
+  return v.depth == 0 || ((v.flags & kFlagSpecular) != 0 && ps.featureDepth[id] < 0.0f);
+}
+
+template <FeatureClass C, uint32_t Q>
+PT_HDI void WriteSurfaceFeatures(PathState ps, uint32_t id, const PathVertex& v,
+                                 const HitMaterial<C>& mat, const SurfaceInteraction& si,
+                                 vec3 wo) {
+  float depth = (v.depth == 0 ? 0.0f : -ps.featureDepth[id]) + v.hit.t;
+  bool lookOn = !IsType<Q>(mat, MaterialType::kDiffuse) &&
+                !IsType<Q>(mat, MaterialType::kEmissive) && !HasNonDeltaLobeFor<C, Q>(mat);
+  // The albedo as seen through the delta bounces (their tint: v.beta).
+  WriteFeatures(ps, id, v.beta * FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns,
+                lookOn ? -depth : depth);
+}
+
 // Escaped: the environment (a constant, a map) and sun disks are lights; a camera ray may see
 // a backdrop instead where the environment is hidden from the camera.
 template <bool kMap>
 PT_HDI void ShadeEscaped(const SceneView& scene, const IntegratorParams& params, PathState ps,
                          uint32_t id, const PathVertex& v) {
   vec3 radiance = v.radiance;
-  if (params.featureBuffers && v.depth == 0) WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
+  if (params.featureBuffers && FeaturesDue(ps, id, v))
+    WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), 0.0f);
   if (v.depth == 0 && scene.env.hiddenFromCamera) {
     if (params.Counts(0)) radiance += v.beta * scene.env.cameraColor;
   } else if (params.Counts(v.depth)) {
@@ -237,9 +259,8 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   SurfaceInteraction si = MakeInteraction(scene, v.ray, v.hit);
   HitMaterial<C> mat = MaterialAt<C, Q>(scene, scene.prims[v.hit.prim], &si);
   vec3 wo = -v.ray.d;
-  if (params.featureBuffers && v.depth == 0)
-    WriteFeatures(ps, id, FeatureAlbedo(mat), glm::dot(si.ns, wo) < 0.0f ? -si.ns : si.ns,
-                  v.hit.t);
+  if (params.featureBuffers && FeaturesDue(ps, id, v))
+    WriteSurfaceFeatures<C, Q>(ps, id, v, mat, si, wo);
   if (IsType<Q>(mat, MaterialType::kEmissive)) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
     if (!IsBlack(le) && si.light >= 0 && params.Counts(v.depth)) {

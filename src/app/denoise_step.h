@@ -1,0 +1,22 @@
+// --denoise in the app: the denoiser of the render's backend, run once on the final image
+// (after an MPI job's films are merged, on rank 0) and on each preview.
+#pragma once
+
+#include <memory>
+
+#include "src/app/cli.h"
+#include "src/app/run.h"
+#include "src/app/stats_json.h"
+
+namespace pt {
+
+// The denoiser --denoise asks for on this backend (device: the CUDA device), or null without
+// --denoise. Throws AppFailure (exit 3) when the backend cannot make one.
+std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind backend,
+                                          const AppBackends& backends, int device);
+
+// image.denoised := the denoised image; its time is added to times (when given). A denoiser
+// that fails is an AppFailure (exit 3).
+void DenoiseImage(Denoiser* denoiser, FilmImage& image, AppTimes* times);
+
+}  // namespace pt

@@ -1,0 +1,38 @@
+// The built-in denoiser as the app and the preview server use it: an image of the film in
+// (its features and its two half buffers: RenderOptions::featureBuffers and halfFilms), the
+// denoised image out, on the CPU or a GPU. Host-side: a virtual interface is fine here.
+// The method and its parameters: docs/denoise.md, src/denoise/nlm_stages.h.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "src/denoise/denoise_settings.h"
+#include "src/integrator/render_api.h"
+
+namespace pt {
+
+class Denoiser {
+ public:
+  virtual ~Denoiser() = default;
+  // image.denoised := the denoised image (3 floats per pixel). Throws std::invalid_argument
+  // when the image lacks features or half buffers (DenoiseInputProblem says which).
+  virtual void Denoise(FilmImage& image) = 0;
+  // Milliseconds the last Denoise took: all of it (copies to and from a GPU included), and
+  // its passes alone (the kernels on a GPU).
+  virtual double LastMs() const = 0;
+  virtual double LastPassesMs() const = 0;
+  virtual std::string BackendName() const = 0;
+};
+
+// What an image lacks to be denoised, or an empty string.
+std::string DenoiseInputProblem(const FilmImage& image);
+
+// threads: 0 = all cores. The CUDA one throws BackendUnavailable when the backend is not built
+// or no GPU is present.
+std::unique_ptr<Denoiser> MakeCpuDenoiser(int threads, const DenoiseSettings& settings = {});
+std::unique_ptr<Denoiser> MakeCudaDenoiser(int device, const DenoiseSettings& settings = {});
+
+using DenoiserFactory = std::unique_ptr<Denoiser> (*)(int, const DenoiseSettings&);
+
+}  // namespace pt

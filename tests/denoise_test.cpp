@@ -1,0 +1,185 @@
+// The built-in denoiser (src/denoise/) on the CPU: what it must leave alone (a constant image,
+// a noise-free one, an albedo edge), what it must never do (NaN or Inf out, depend on the
+// thread count), and that it does denoise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "src/denoise/denoiser.h"
+#include "tests/denoise_test_util.h"
+#include "tests/test_util.h"
+
+namespace pt::test {
+namespace {
+
+std::vector<float> DenoiseOnCpu(FilmImage img, int threads = 2, DenoiseSettings s = {}) {
+  MakeCpuDenoiser(threads, s)->Denoise(img);
+  return img.denoised;
+}
+
+float MaxAbsDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  float m = 0.0f;
+  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::fabs(a[i] - b[i]));
+  return m;
+}
+
+// Every value the same: averaging gives it back exactly (the sums hold differences from the
+// pixel's own value), whatever the weights; variance estimates and features vary the weights.
+TEST(Denoise, ConstantImageStaysConstant) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  FilmImage img = SyntheticImage(40, 30, 16, [&](int, int) {
+    SyntheticPixel p;
+    p.color = vec3(0.3f, 0.5f, 0.7f);
+    p.albedo = vec3(u(rng), u(rng), u(rng));
+    p.depth = 1.0f + 5.0f * u(rng);
+    return p;
+  });
+  for (float& v : img.variance) v = 0.01f + u(rng);  // noisy variance estimates of no noise
+  std::vector<float> out = DenoiseOnCpu(img);
+  ASSERT_EQ(out.size(), img.rgb.size());
+  for (size_t i = 0; i < out.size(); ++i) ASSERT_EQ(out[i], img.rgb[i]) << i;
+}
+
+// No noise (zero variance, equal halves): every colour difference is significant, so no pixel
+// takes a different neighbour's value, and the image is unchanged (< 1e-4).
+TEST(Denoise, NoiseFreeImageChangesLessThan1e4) {
+  FilmImage img = SyntheticImage(48, 40, 64, [](int x, int y) {
+    SyntheticPixel p;
+    float ramp = 0.02f * float(x) + 0.01f * float(y);                   // smooth shading
+    float checker = ((x / 5 + y / 7) % 2) ? 0.8f : 0.1f;                 // texture edges
+    p.color = vec3(ramp * checker, 0.5f * checker, x > 30 ? 4.0f : 0.2f);  // and a bright step
+    p.albedo = vec3(checker);
+    return p;
+  });
+  std::vector<float> out = DenoiseOnCpu(img);
+  EXPECT_LT(MaxAbsDifference(out, img.rgb), 1e-4f);
+}
+
+// A step in albedo (0.4 | 0.6) under even light, with noise too strong for the colour alone
+// to see it (without the albedo feature the step keeps 17% of its contrast): the albedo
+// feature keeps the neighbours across the edge out, so the step between the two columns at
+// the edge keeps at least 95% of its contrast, while the noise on either side drops.
+TEST(Denoise, AlbedoEdgeStaysSharp) {
+  constexpr int kEdge = 32;
+  auto at = [](int x, int) {
+    SyntheticPixel p;
+    float a = x < kEdge ? 0.4f : 0.6f;
+    p.albedo = vec3(a);
+    p.color = vec3(a);
+    p.sigma = 1.0f;
+    return p;
+  };
+  FilmImage img = SyntheticImage(64, 64, 16, at, 7);
+  std::vector<float> out = DenoiseOnCpu(img);
+  double left = 0.0, right = 0.0, noiseIn = 0.0, noiseOut = 0.0;
+  for (int y = 0; y < 64; ++y) {
+    for (int c = 0; c < 3; ++c) {
+      left += out[3 * (size_t(y) * 64 + kEdge - 1) + c];
+      right += out[3 * (size_t(y) * 64 + kEdge) + c];
+      size_t flat = 3 * (size_t(y) * 64 + 10) + c;  // far from the edge
+      noiseIn += std::pow(img.rgb[flat] - 0.4, 2.0);
+      noiseOut += std::pow(out[flat] - 0.4, 2.0);
+    }
+  }
+  double contrast = (right - left) / (64 * 3);
+  EXPECT_GE(contrast, 0.95 * 0.2) << "left " << left / 192 << ", right " << right / 192;
+  EXPECT_LT(noiseOut, noiseIn / 4.0);  // and it does denoise
+}
+
+// Degenerate films: black with no variance, no samples at all, one sample per pixel (no odd
+// half), zero features (the background), huge and tiny values: always finite.
+TEST(Denoise, NoNanOrInfForAnyInput) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<FilmImage> films;
+  films.push_back(SyntheticImage(17, 9, 4, [](int, int) {
+    SyntheticPixel p;
+    p.color = p.albedo = p.normal = vec3(0.0f);
+    p.depth = 0.0f;
+    return p;
+  }));
+  FilmImage empty = films.back();
+  for (uint32_t& n : empty.samples) n = 0;
+  for (uint32_t& n : empty.evenSamples) n = 0;
+  films.push_back(empty);
+  films.push_back(SyntheticImage(23, 19, 1, [&](int x, int) {
+    SyntheticPixel p;
+    p.color = vec3(u(rng) * 100.0f);
+    p.depth = x % 3 == 0 ? 0.0f : u(rng) * 1e-30f;  // the background and near-zero depths
+    return p;
+  }));
+  films.push_back(SyntheticImage(31, 12, 8, [&](int x, int y) {
+    SyntheticPixel p;
+    float big = (x + y) % 2 ? 1e30f : 1e-30f;
+    p.color = vec3(big * u(rng), 0.0f, big);
+    p.albedo = vec3(big);
+    p.normal = vec3(-big, big, 0.0f);
+    p.depth = (x % 4) ? 1e30f : 1e-30f;
+    p.sigma = y % 3 ? big : 0.0f;
+    return p;
+  }));
+  for (FilmImage& img : films) {
+    for (size_t i = 0; i < img.variance.size(); i += 7) img.variance[i] = 0.0f;
+    std::vector<float> out = DenoiseOnCpu(img);
+    ASSERT_EQ(out.size(), img.rgb.size());
+    for (float v : out) ASSERT_TRUE(std::isfinite(v)) << img.width << "x" << img.height;
+  }
+}
+
+// The same image bit for bit, run after run and whatever the thread count (every pixel's
+// arithmetic is its own) and the search radius's band split.
+TEST(Denoise, DeterministicAcrossRunsAndThreads) {
+  FilmImage img = SyntheticImage(70, 45, 16, [](int x, int y) {
+    SyntheticPixel p;
+    p.color = vec3(0.1f * float(x % 9), 0.5f, float(y % 5));
+    p.albedo = vec3(x < 35 ? 0.3f : 0.7f);
+    p.sigma = 0.3f;
+    return p;
+  });
+  std::vector<float> one = DenoiseOnCpu(img, 1);
+  EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 1)));
+  EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 2)));
+  EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 5)));
+}
+
+// Noise is what it removes: on a smooth image with noise the error to the truth drops by far
+// more than half (the search window holds 225 pixels).
+TEST(Denoise, ReducesNoiseOnASmoothImage) {
+  auto truth = [](int x, int y) { return vec3(0.2f + 0.01f * float(x), 0.5f, 0.3f + 0.005f * float(y)); };
+  FilmImage img = SyntheticImage(60, 50, 16, [&](int x, int y) {
+    SyntheticPixel p;
+    p.color = truth(x, y);
+    p.sigma = 0.4f;
+    return p;
+  }, 5);
+  std::vector<float> out = DenoiseOnCpu(img);
+  double before = 0.0, after = 0.0;
+  for (int y = 0; y < 50; ++y)
+    for (int x = 0; x < 60; ++x)
+      for (int c = 0; c < 3; ++c) {
+        size_t i = 3 * (size_t(y) * 60 + x) + c;
+        before += std::pow(img.rgb[i] - truth(x, y)[c], 2.0);
+        after += std::pow(out[i] - truth(x, y)[c], 2.0);
+      }
+  EXPECT_LT(after, before / 8.0);
+}
+
+TEST(Denoise, RefusesAnImageWithoutHalvesOrFeaturesAndBadSettings) {
+  FilmImage img = SyntheticImage(8, 8, 4, [](int, int) { return SyntheticPixel{}; });
+  FilmImage noHalves = img;
+  noHalves.evenRgb.clear();
+  EXPECT_NE(DenoiseInputProblem(noHalves).find("half buffers"), std::string::npos);
+  EXPECT_THROW(DenoiseOnCpu(noHalves), std::invalid_argument);
+  FilmImage noFeatures = img;
+  noFeatures.normal.clear();
+  EXPECT_THROW(DenoiseOnCpu(noFeatures), std::invalid_argument);
+  DenoiseSettings bad;
+  bad.radius = 0;
+  EXPECT_THROW(DenoiseOnCpu(img, 2, bad), std::invalid_argument);
+  EXPECT_EQ(DenoiseInputProblem(img), "");
+}
+
+}  // namespace
+}  // namespace pt::test
