@@ -82,7 +82,10 @@ def continuous_orbit(client, camera, seconds, rate=30.0):
             time.sleep(max(0.0, start + i / rate - time.perf_counter()))
         moving.clear()
 
-    last_id = client.frame(0)["id"]
+    first = client.frame(0)
+    while first is None:
+        first = client.frame(0)
+    last_id = first["id"]
     thread = threading.Thread(target=drag)
     start = time.perf_counter()
     thread.start()
@@ -150,6 +153,8 @@ def main():
             orbit = continuous_orbit(client, dict(camera), args.orbit_seconds)
             time.sleep(0.5)
         last = client.frame(0)
+        while last is None:  # the long poll ends after 2 s; a first denoised frame may take longer
+            last = client.frame(0)
         latencies, server_ms, first_spp, rebuild_ms = [], [], [], []
         for i in range(args.edits):
             sign = 1 if i % 2 == 0 else -1

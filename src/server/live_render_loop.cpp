@@ -264,7 +264,9 @@ void LiveRender::EncodeLoop() {
     bool full = job.image->width == width_ && job.image->height == height_;
     try {
       double denoiseMs = -1.0;
-      if (full) job.image = Displayed(job.image, &denoiseMs);
+      // Not a frame a waiting edit makes stale: the edit's first frame must not queue behind
+      // a denoise (about a second for 512^2 on 2 CPU cores).
+      if (full && !editsWaiting_) job.image = Displayed(job.image, &denoiseMs);
       bool denoised = denoise_ && !job.image->denoised.empty();
       frame->jpeg = EncodeJpeg(job.image->width, job.image->height,
                                DisplayPixels(denoised ? job.image->denoised : job.image->rgb,
