@@ -277,8 +277,14 @@ TEST(CliParse, ServeOptions) {
   EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "70000"}), "--serve"));
   EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--bind", "0.0.0.0"}),
                        "--bind needs --serve"));
-  EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "-o", "o.png"}),
-                       "-o does not go with --serve"));
+  // -o and --hdr are where Ctrl-C saves the preview; their formats are checked as a render's.
+  CliOptions saved = Parse({"s.json", "--serve", "-o", "o.png", "--hdr", "o.exr", "--tonemap", "agx"});
+  EXPECT_EQ(saved.outputPath, "o.png");
+  EXPECT_EQ(saved.display.toneMapping, ToneMapping::kAgx);
+  EXPECT_FALSE(ParseError({"s.json", "--serve", "-o", "o.xyz"}).empty());
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--env-dir", "maps"}),
+                       "--env-dir needs --serve"));
+  EXPECT_TRUE(Contains(ParseError({"s.json", "-o", "o.png", "--exposure", "nan"}), "--exposure"));
   EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "--crop", "0,0,4,4"}),
                        "--crop does not go with --serve"));
   EXPECT_TRUE(Contains(ParseError({"s.json", "--serve", "--resume", "a.exr"}),

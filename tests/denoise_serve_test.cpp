@@ -31,7 +31,7 @@ TEST(DenoiseServe, TheToggleDenoisesFramesWithoutRestarting) {
   std::unique_ptr<LiveRender> live = LiveBox(true);
   auto frame = live->WaitForFrame(0, std::chrono::seconds(20));
   ASSERT_TRUE(frame);
-  uint64_t generation = live->EditOptions(Json{{"denoise", true}});
+  uint64_t generation = live->EditOptions(Json{{"denoise", true}}).generation;
   EXPECT_EQ(generation, frame->generation);  // nothing restarts
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   std::shared_ptr<const FilmImage> image;
@@ -49,6 +49,26 @@ TEST(DenoiseServe, TheToggleDenoisesFramesWithoutRestarting) {
   live->Stop();
 }
 
+// The toggle is part of the one state every page follows: announced on the feed with the new
+// value in it; after Stop the saved image carries the denoised layer it showed.
+TEST(DenoiseServe, TheToggleIsPushedAndSaved) {
+  std::unique_ptr<LiveRender> live = LiveBox(true);
+  ASSERT_TRUE(live->WaitForFrame(0, std::chrono::seconds(20)));
+  EXPECT_FALSE(Json::parse(live->StateJson())["options"]["denoise"].get<bool>());
+  ChangeFeed::Versions before = live->Feed().Current();
+  live->EditOptions(Json{{"denoise", true}});
+  ChangeFeed::Versions after = live->Feed().Current();
+  EXPECT_GT(after[ChangeFeed::kState], before[ChangeFeed::kState]);
+  EXPECT_TRUE(Json::parse(live->StateJson())["options"]["denoise"].get<bool>());
+  EXPECT_TRUE(live->Denoising());
+  live->Stop();
+  uint32_t spp = 0;
+  std::shared_ptr<const FilmImage> image = live->FinalImage(&spp);
+  ASSERT_TRUE(image);
+  EXPECT_GT(spp, 0u);
+  EXPECT_EQ(image->denoised.size(), image->rgb.size());
+}
+
 TEST(DenoiseServe, RefusedWithoutADenoiser) {
   std::unique_ptr<LiveRender> live = LiveBox(false);
   try {
@@ -58,6 +78,8 @@ TEST(DenoiseServe, RefusedWithoutADenoiser) {
     EXPECT_EQ(e.status, 422);
   }
   EXPECT_FALSE(Json::parse(live->DescribeJson())["options"]["denoise_available"].get<bool>());
+  EXPECT_FALSE(Json::parse(live->StateJson())["options"].contains("denoise"));
+  EXPECT_FALSE(live->Denoising());
   live->Stop();
 }
 

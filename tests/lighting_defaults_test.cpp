@@ -85,11 +85,8 @@ TEST_F(LightingDefaultsRun, TheEnvironmentLightsAFileWithItsOwnLight) {
   EXPECT_GT(Image()[3 * (8 * 24 + 12)], 0.1f);
   EXPECT_EQ(out.find("nearly black"), std::string::npos) << out;
 
-  // The live preview edits JSON documents: a model file is refused clearly, nothing served.
-  ASSERT_EQ(RunCommand(BinaryPath("pathtracer") + " " + behind + " --serve 0 --backend cpu", &out),
-            2) << out;
-  EXPECT_NE(out.find("--serve previews JSON scenes: include the model in one as"),
-            std::string::npos) << out;
+  // (--serve opens model files with this same default lighting: tests/serve_state_test.cpp
+  // and the browser test.)
 
   // No light at all and no environment.
   ASSERT_EQ(Run(WriteLitSquareModel(dir_.path, "unlit", false, false), "--env none", &out), 0) << out;

@@ -66,6 +66,35 @@ TEST(ServeGpu, InstanceMovesReplaceTheTopLevelOnTheGpu) {
   EXPECT_LT(diff, 1e-4 * sum) << "the preview's film differs from the saved scene's render";
   EXPECT_GT(moved, 1e-2 * sum) << "the move did not change the image";
 }
+// Coarse frames on the GPU: a coarse image is the GPU render at its size (up to the order of
+// sums), and edits arriving faster than full-resolution samples show coarse frames.
+TEST(ServeGpu, CoarseFramesOnTheGpu) {
+  if (CudaDeviceCount() <= 0) GTEST_SKIP() << "no CUDA GPU here: runs on a GPU machine";
+  SceneDesc desc = LoadScene(SourcePath("scenes/cornell_box.json"));
+  desc.render.width = desc.render.height = 64;
+  desc.render.spp = 1;
+  Scene scene = BuildScene(desc);
+  std::unique_ptr<RenderSession> session = MakeCudaSession(scene, RenderOptions{}, RenderCallbacks{});
+  session->ResetFilm();
+  ASSERT_EQ(session->RenderCoarse(32, 32, 0, 1), 1024u);
+  FilmImage coarse = session->Image();
+  desc.render.width = desc.render.height = 32;
+  RenderResult small = RenderCuda(BuildScene(desc), RenderOptions{});
+  double diff = 0.0, sum = 0.0;
+  for (size_t i = 0; i < small.image.rgb.size(); ++i) {
+    diff += std::fabs(double(coarse.rgb[i]) - double(small.image.rgb[i]));
+    sum += std::fabs(double(small.image.rgb[i]));
+  }
+  EXPECT_LT(diff, 1e-4 * sum);
+  Served s(1000000, &MakeCudaSession, 256, "scenes/cornell_box.json",
+           [](LiveSettings& l) { l.coarseFrameMs = 1e-3; });
+  s.WaitFrame(0, 4);
+  Json g;
+  for (int i = 0; i < 10; ++i) g = s.PostJson("/api/camera", "{\"fov_y\": " + std::to_string(30 + i) + "}");
+  Served::Frame f = s.WaitFrame(g["generation"], 0);
+  EXPECT_EQ(f.kind, "coarse") << "the first frame after an edit at this budget";
+  EXPECT_EQ(s.WaitFrame(g["generation"], 2).width, 256);
+}
 #else
 TEST(ServeGpu, SkippedWithoutTheServer) { GTEST_SKIP() << "built without cpp-httplib"; }
 #endif

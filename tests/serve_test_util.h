@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 
 #include "src/integrator/render_api.h"
 #include "src/io/image_io.h"
+#include "src/io/model_scene.h"
 #include "src/io/scene_loader.h"
 #include "src/server/http_server.h"
 #include "src/server/live_render.h"
@@ -24,22 +26,26 @@ namespace pt::test {
 
 using Clock = std::chrono::steady_clock;
 
-// A served scene (of the repository unless an absolute path; the Cornell box unless named),
-// side x side at `spp` samples, on two CPU threads (or the session `make` makes), with the
-// server on a free port of 127.0.0.1 and a client of it.
+// A served scene (of the repository unless an absolute path; the Cornell box unless named; a
+// model file as the JSON scene that includes it), side x side at `spp` samples, on two CPU
+// threads (or the session `make` makes), with the server on a free port of 127.0.0.1 and a
+// client of it. `tweak` changes the preview's settings before it starts.
 class Served {
  public:
   explicit Served(int spp, MakeSessionFn make = &MakeCpuSession, int side = 48,
-                  const std::string& scene = "scenes/cornell_box.json") {
+                  const std::string& scene = "scenes/cornell_box.json",
+                  const std::function<void(LiveSettings&)>& tweak = nullptr) {
     std::string path = scene.rfind('/', 0) == 0 ? scene : SourcePath(scene);
     SceneDesc desc = LoadScene(path);
     desc.render.width = side;
     desc.render.height = side;
     desc.render.spp = spp;
-    SceneDocument document(path, desc.render);
+    SceneDocument document = IsModelFile(path) ? SceneDocument::ForModel(path, desc, LoadOptions{})
+                                               : SceneDocument(path, desc.render);
     LiveSettings settings;
     settings.options.threads = 2;
     settings.framesPerSecond = 50;
+    if (tweak) tweak(settings);
     live_ = std::make_unique<LiveRender>(std::move(document), BuildScene(std::move(desc)),
                                          std::move(make), settings);
     HttpServerConfig config;
@@ -77,6 +83,8 @@ class Served {
   struct Frame {
     uint64_t id = 0, generation = 0;
     uint32_t spp = 0;
+    int width = 0;
+    std::string kind;  // coarse, render, display
     std::string jpeg;
   };
   // Long-polls frames until one of at least `generation` with at least `spp` samples.
@@ -90,6 +98,8 @@ class Served {
       f.id = std::stoull(r->get_header_value("X-Frame-Id"));
       f.generation = std::stoull(r->get_header_value("X-Generation"));
       f.spp = uint32_t(std::stoul(r->get_header_value("X-Spp")));
+      f.width = std::stoi(r->get_header_value("X-Width"));
+      f.kind = r->get_header_value("X-Frame-Kind");
       f.jpeg = r->body;
       if (f.generation >= generation && f.spp >= spp) return f;
     }

@@ -5,12 +5,14 @@
 
 const $ = (id) => document.getElementById(id);
 const preview = window.ptPreview = {
-  frames: 0, frameId: 0, generation: 0, spp: 0, selected: null, errors: 0, lastError: '',
-  latencyMs: null, stats: null,
+  frames: 0, frameId: 0, generation: 0, spp: 0, kind: '', selected: null, errors: 0,
+  lastError: '', lastErrorField: '', latencyMs: null, fps: 0, stats: null, state: null,
+  events: 0, framesByKind: { coarse: 0, render: 0, display: 0 },
 };
-let scene = null;         // GET /api/scene
-let camera = null;        // the camera as this page last set it
-let initialCamera = null;
+let scene = null;         // the "scene" event: objects, materials, cameras, maps
+let state = null;         // the "state" event: what the render uses (camera, options, display...)
+let camera = null;        // the camera this page moves (state.camera when nothing is dragged)
+let interacting = 0;      // drags and camera sends under way: the page's own camera wins
 const editSent = new Map();  // generation -> time the edit that asked for it was sent
 
 // ---- Small vector maths for the camera ---------------------------------------------------------
@@ -37,13 +39,33 @@ function unitsPerPixel(depth) {
   return 2 * depth * Math.tan((camera.fov_y * Math.PI) / 360) / Math.max(1, img.clientHeight);
 }
 
-// ---- Requests ---------------------------------------------------------------------------------
-function showError(message) {
+// ---- Requests and errors -----------------------------------------------------------------------
+// The control each field of the server's errors names.
+const fieldInputs = {
+  compact: 'f-compact', sort: 'f-sort', integrator: 'f-integrator', specialize: 'f-specialize',
+  light_sampler: 'f-light-sampler', max_depth: 'f-max-depth', spp: 'f-spp', denoise: 'f-denoise',
+  exposure: 'd-exposure', tone_mapping: 'd-tonemap', map: 'l-map', strength: 'l-strength',
+  rotation: 'l-rotation',
+};
+
+function clearFieldErrors() {
+  for (const e of document.querySelectorAll('.field-error')) e.remove();
+}
+
+// The message at the top of the controls and next to the field it is about (the field itself
+// already shows the value in force again: see applyState).
+function showError(message, input) {
   preview.errors += 1;
   preview.lastError = message;
   $('error').textContent = message;
   clearTimeout(showError.timer);
-  showError.timer = setTimeout(() => { $('error').textContent = ''; }, 6000);
+  showError.timer = setTimeout(() => { $('error').textContent = ''; }, 8000);
+  if (!input) return;
+  const label = input.closest('label') || input.parentElement;
+  const note = document.createElement('div');
+  note.className = 'field-error';
+  note.textContent = message;
+  label.after(note);
 }
 
 async function post(path, body) {
@@ -51,21 +73,33 @@ async function post(path, body) {
     method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
   });
   const answer = await response.json().catch(() => ({}));
-  if (!response.ok) throw new Error(answer.error || `HTTP ${response.status}`);
+  if (!response.ok) {
+    const error = new Error(answer.error || `HTTP ${response.status}`);
+    error.field = answer.field || '';
+    throw error;
+  }
   return answer;
 }
 
-// An edit: its generation is timed until the first frame that shows it.
-async function edit(path, body) {
+// An edit: a restart is timed from sending it to the first rendered frame that shows it. A
+// refusal puts the value in force back and its message next to the field (`input`, or the
+// control of the field the server names).
+async function edit(path, body, input = null) {
   const sent = performance.now();
+  if (input) clearFieldErrors();  // a new value for a control: its old message goes
   try {
     const answer = await post(path, body);
-    if (answer.generation !== undefined && !editSent.has(answer.generation)) {
-      editSent.set(answer.generation, sent);
-    }
+    if (answer.restarts && !editSent.has(answer.generation)) editSent.set(answer.generation, sent);
     return answer;
   } catch (e) {
-    showError(e.message);
+    preview.lastErrorField = e.field || '';
+    if (state) applyState(state, true);
+    let target = input;
+    if (input && input.dataset.material !== undefined) {  // the form again, as in force
+      refreshMaterialForm(true);
+      target = $('material').elements[input.name] || null;
+    }
+    showError(e.message, target || (e.field && $(fieldInputs[e.field])) || null);
     return null;
   }
 }
@@ -77,15 +111,19 @@ function latestSender(send) {
     pending = value;
     if (busy) return;
     busy = true;
+    interacting += 1;
     while (pending !== null) {
       const v = pending;
       pending = null;
       await send(v);
     }
+    interacting -= 1;
     busy = false;
   };
 }
 const sendCamera = latestSender((cam) => edit('/api/camera', cam));
+const sendExposure = latestSender((stops) => edit('/api/display', { exposure: stops }, $('d-exposure')));
+const sendRotation = latestSender((deg) => edit('/api/lighting', { rotation: deg }, $('l-rotation')));
 
 // ---- Frames -----------------------------------------------------------------------------------
 const frameTimes = [];
@@ -98,19 +136,29 @@ function showFrame(blob, response) {
   preview.frameId = Number(response.headers.get('X-Frame-Id'));
   preview.generation = Number(response.headers.get('X-Generation'));
   preview.spp = Number(response.headers.get('X-Spp'));
+  preview.kind = response.headers.get('X-Frame-Kind') || 'render';
+  preview.framesByKind[preview.kind] = (preview.framesByKind[preview.kind] || 0) + 1;
   const now = performance.now();
-  for (const [generation, sent] of editSent) {
-    if (generation > preview.generation) continue;
-    if (generation === preview.generation) {
-      preview.latencyMs = now - sent;
-      $('s-latency').textContent = `${preview.latencyMs.toFixed(0)} ms`;
+  if (preview.kind !== 'display') {
+    for (const [generation, sent] of editSent) {
+      if (generation > preview.generation) continue;
+      if (generation === preview.generation) {
+        preview.latencyMs = now - sent;
+        $('s-latency').textContent = `${preview.latencyMs.toFixed(0)} ms`;
+      }
+      editSent.delete(generation);
     }
-    editSent.delete(generation);
   }
   frameTimes.push(now);
-  while (frameTimes.length > 1 && now - frameTimes[0] > 2000) frameTimes.shift();
-  const fps = frameTimes.length > 1 ? (frameTimes.length - 1) * 1000 / (now - frameTimes[0]) : 0;
-  $('s-fps').textContent = fps.toFixed(1);
+  showFps();
+}
+
+// Frames shown in the last 2 s: falls to 0 when none come (converged, or only display changes).
+function showFps() {
+  const now = performance.now();
+  while (frameTimes.length && now - frameTimes[0] > 2000) frameTimes.shift();
+  preview.fps = frameTimes.length / 2;
+  $('s-fps').textContent = preview.fps.toFixed(1);
 }
 
 async function frameLoop() {
@@ -119,7 +167,6 @@ async function frameLoop() {
       const response = await fetch(`/api/frame?after=${preview.frameId}`, { cache: 'no-store' });
       if (response.status === 200) {
         showFrame(await response.blob(), response);
-        refreshStats();
       } else if (response.status !== 204) {
         throw new Error(`frame: HTTP ${response.status}`);
       }
@@ -133,18 +180,15 @@ async function frameLoop() {
 const si = (v) => (v >= 1e9 ? `${(v / 1e9).toFixed(2)} G` : v >= 1e6 ? `${(v / 1e6).toFixed(2)} M`
   : v >= 1e3 ? `${(v / 1e3).toFixed(1)} k` : v.toFixed(0));
 
-async function refreshStats() {
-  let s;
-  try {
-    const response = await fetch('/api/stats', { cache: 'no-store' });
-    if (!response.ok) return;
-    s = await response.json();
-  } catch (e) {
-    return;
-  }
+// The "progress" event: the latest frame's statistics, or why the render ended.
+function showProgress(s) {
   preview.stats = s;
-  $('status').textContent = `${s.spp} / ${s.target_spp} spp`;
+  if (s.spp === undefined) return;
+  const ended = s.state === 'done' || s.state === 'stopped';
+  $('status').textContent = `${s.spp} / ${s.target_spp} spp` + (s.state === 'stopped' ? ' (stopped)' : '');
   $('s-spp').textContent = `${s.spp} / ${s.target_spp}`;
+  $('s-state').textContent = ended && s.message ? s.message : s.state || '–';
+  if (s.samples_per_s === undefined) return;
   $('s-samples').textContent = si(s.samples_per_s);
   $('s-rays').textContent = si(s.rays_per_s);
   $('s-pass').textContent = s.pass_ms.toFixed(2);
@@ -156,10 +200,15 @@ async function refreshStats() {
     $('s-rebuilds').textContent = `${r.scene} / ${r.top_level}` +
         (r.scene + r.top_level > 0 ? ` (last ${r.last_ms.toFixed(1)} ms)` : '');
   }
-  const stages = $('stages');
-  const entries = Object.entries(s.stage_ms);
+  // The denoiser's time on the frame shown; "off" when the frame is not denoised (coarse ones never are).
+  $('s-denoise').textContent = s.denoise_ms === undefined ? 'off' : s.denoise_ms.toFixed(1);
+  showStages(s.stage_ms);
+}
+
+function showStages(stageMs) {
+  const entries = Object.entries(stageMs || {});
   const most = Math.max(1e-9, ...entries.map(([, ms]) => ms));
-  stages.replaceChildren(...entries.map(([name, ms]) => {
+  $('stages').replaceChildren(...entries.map(([name, ms]) => {
     const row = document.createElement('div');
     row.className = 'stage-row';
     const label = document.createElement('span');
@@ -174,26 +223,72 @@ async function refreshStats() {
   }));
 }
 
-// ---- Scene, flags and camera controls ---------------------------------------------------------
-async function loadScene() {
-  const response = await fetch('/api/scene', { cache: 'no-store' });
-  scene = await response.json();
-  if (!camera) {
-    camera = { position: scene.camera.position, look_at: scene.camera.look_at,
-      up: scene.camera.up || [0, 1, 0], fov_y: scene.camera.fov_y };
-    initialCamera = structuredClone(camera);
-  }
+// ---- The server's state, pushed (GET /api/events) ----------------------------------------------
+function connectEvents() {
+  const events = new EventSource('/api/events');
+  events.addEventListener('scene', (e) => { preview.events += 1; applyScene(JSON.parse(e.data)); });
+  events.addEventListener('state', (e) => { preview.events += 1; applyState(JSON.parse(e.data)); });
+  events.addEventListener('progress', (e) => { preview.events += 1; showProgress(JSON.parse(e.data)); });
+  events.addEventListener('error', () => { $('status').textContent = 'disconnected: retrying'; });
+}
+
+function option(value, text) {
+  const o = document.createElement('option');
+  o.value = value;
+  o.textContent = text;
+  return o;
+}
+
+function applyScene(next) {
+  const first = !scene;
+  scene = next;
   $('title').textContent = scene.scene;
   document.title = `${scene.scene}: pathtracer preview`;
-  $('f-compact').value = scene.options.compact;
-  $('f-sort').value = scene.options.sort;
-  $('f-integrator').value = scene.options.integrator;
-  $('f-specialize').checked = scene.options.specialize;
-  $('f-light-sampler').value = scene.options.light_sampler;
-  $('f-max-depth').value = scene.render.max_depth;
-  $('f-spp').value = scene.render.spp;
+  $('c-choice').replaceChildren(option('', '(moved)'),
+    ...scene.cameras.map((c) => option(String(c.index), c.name)));
+  $('l-map').replaceChildren(option('scene', "the scene's own"), option('none', 'none'),
+    ...scene.maps.map((m) => option(m, m)));
+  const denoise = Boolean(scene.options.denoise_available);
+  $('f-denoise-row').hidden = !denoise;
+  $('denoise-key').hidden = !denoise;
+  $('s-denoise-row').hidden = !denoise;
+  if (first) fitView();
+  if (state) applyState(state, true);
+  refreshMaterialForm();
+}
+
+// Every control shows what the render uses; the camera too, unless this page is moving it.
+function applyState(next, again = false) {
+  const selectionChanged = !state || JSON.stringify(state.selection) !== JSON.stringify(next.selection);
+  const cameraChanged = !state || JSON.stringify(state.camera) !== JSON.stringify(next.camera);
+  state = preview.state = next;
+  if (!interacting || !camera) camera = structuredClone(state.camera);
+  if (!camera.up) camera.up = [0, 1, 0];
   showFov();
-  fitView();
+  const o = state.options;
+  $('f-compact').value = o.compact;
+  $('f-sort').value = o.sort;
+  $('f-integrator').value = o.integrator;
+  $('f-specialize').checked = o.specialize;
+  $('f-light-sampler').value = o.light_sampler;
+  $('f-max-depth').value = o.max_depth;
+  $('f-spp').value = o.spp;
+  $('f-denoise').checked = Boolean(o.denoise);
+  $('c-choice').value = state.camera_choice === null ? '' : String(state.camera_choice);
+  if (!sliding.has('d-exposure')) {
+    $('d-exposure').value = state.display.exposure;
+    $('d-exposure-value').textContent = state.display.exposure;
+  }
+  $('d-tonemap').value = state.display.tone_mapping;
+  $('l-map').value = state.lighting.map;
+  $('l-strength').value = state.lighting.strength;
+  if (!sliding.has('l-rotation')) {
+    $('l-rotation').value = state.lighting.rotation;
+    $('l-rotation-value').textContent = `${state.lighting.rotation}°`;
+  }
+  preview.selected = state.selection.object;
+  if (selectionChanged) showSelection();
+  if (selectionChanged || cameraChanged) refreshOutline();
 }
 
 // The image as large as the space left of the controls allows, at its aspect ratio (a small
@@ -202,8 +297,10 @@ function fitView() {
   const main = document.querySelector('main');
   const availableWidth = main.clientWidth - 24, availableHeight = window.innerHeight - 60;
   const s = Math.min(availableWidth / scene.width, availableHeight / scene.height);
-  $('view').style.width = `${Math.floor(scene.width * s)}px`;
-  $('view').style.height = `${Math.floor(scene.height * s)}px`;
+  for (const id of ['view', 'outline']) {
+    $(id).style.width = `${Math.floor(scene.width * s)}px`;
+    $(id).style.height = `${Math.floor(scene.height * s)}px`;
+  }
 }
 
 function showFov() {
@@ -211,10 +308,18 @@ function showFov() {
   $('c-fov-value').textContent = `${Number(camera.fov_y).toFixed(1)}°`;
 }
 
-function bindFlags() {
+// Sliders being dragged keep their own value until released.
+const sliding = new Set();
+
+function bindControls() {
   const flag = (id, key, read) => $(id).addEventListener('change', () => {
     const value = read($(id));
-    if (value !== undefined) edit('/api/options', { [key]: value });
+    if (value === undefined) {
+      applyState(state, true);
+      showError(`${key} needs a whole number`, $(id));
+    } else {
+      edit('/api/options', { [key]: value }, $(id));
+    }
   });
   const text = (el) => el.value;
   const integer = (el) => (Number.isInteger(Number(el.value)) && el.value !== '' ? Number(el.value) : undefined);
@@ -225,22 +330,38 @@ function bindFlags() {
   flag('f-light-sampler', 'light_sampler', text);
   flag('f-max-depth', 'max_depth', integer);
   flag('f-spp', 'spp', integer);
+  flag('f-denoise', 'denoise', (el) => el.checked);
+  for (const id of ['d-exposure', 'l-rotation', 'c-fov']) {
+    $(id).addEventListener('pointerdown', () => sliding.add(id));
+    $(id).addEventListener('change', () => sliding.delete(id));
+  }
   $('c-fov').addEventListener('input', () => {
     camera.fov_y = Number($('c-fov').value);
     showFov();
     sendCamera(structuredClone(camera));
   });
-  $('c-reset').addEventListener('click', () => {
-    camera = structuredClone(initialCamera);
-    showFov();
-    sendCamera(structuredClone(camera));
+  $('c-choice').addEventListener('change', () => {
+    if ($('c-choice').value !== '') edit('/api/camera', { choose: Number($('c-choice').value) });
   });
+  $('c-reset').addEventListener('click', resetCamera);
+  $('c-frame').addEventListener('click', frameSelected);
   $('d-exposure').addEventListener('input', () => {
     const stops = Number($('d-exposure').value);
     $('d-exposure-value').textContent = stops;
-    post('/api/display', { exposure: stops }).catch((e) => showError(e.message));
+    sendExposure(stops);
+  });
+  $('d-tonemap').addEventListener('change', () => edit('/api/display', { tone_mapping: $('d-tonemap').value }, $('d-tonemap')));
+  $('l-map').addEventListener('change', () => edit('/api/lighting', { map: $('l-map').value }, $('l-map')));
+  $('l-strength').addEventListener('change', () => edit('/api/lighting', { strength: Number($('l-strength').value) }, $('l-strength')));
+  $('l-rotation').addEventListener('input', () => {
+    $('l-rotation-value').textContent = `${$('l-rotation').value}°`;
+    sendRotation(Number($('l-rotation').value));
   });
 }
+
+const resetCamera = () => edit('/api/camera', { choose: 0 });
+const frameSelected = () => edit('/api/camera', { frame: 'selection' });
+const deselect = () => edit('/api/select', { object: null });
 
 function orbit(dx, dy) {
   const k = 0.3 * Math.PI / 180;
@@ -283,6 +404,27 @@ async function pick(event) {
   }
 }
 
+// The selected object's outline over the image (the server casts it through the camera in
+// force): fetched again when the selection, the camera or the object's place changes.
+async function refreshOutline() {
+  const img = $('outline');
+  if (preview.selected === null || preview.selected === undefined) {
+    img.hidden = true;
+    return;
+  }
+  const ask = (refreshOutline.asked = (refreshOutline.asked || 0) + 1);
+  const response = await fetch('/api/outline.png?max=320', { cache: 'no-store' }).catch(() => null);
+  if (ask !== refreshOutline.asked || !response) return;  // a newer one is on its way
+  if (response.status !== 200) {
+    img.hidden = true;
+    return;
+  }
+  const old = img.src;
+  img.src = URL.createObjectURL(await response.blob());
+  if (old.startsWith('blob:')) URL.revokeObjectURL(old);
+  img.hidden = false;
+}
+
 // Moves accumulate while a request is out, so no displacement is lost.
 const pendingMove = { delta: [0, 0, 0], busy: false };
 async function moveSelected(delta) {
@@ -295,23 +437,35 @@ async function moveSelected(delta) {
     await edit(`/api/objects/${preview.selected}/move`, { translate: d });
   }
   pendingMove.busy = false;
+  refreshOutline();
 }
 
-function select(hit) {
-  preview.selected = hit.object ?? null;
+function showSelection() {
   const box = $('selection');
-  const form = $('material');
-  form.replaceChildren();
-  if (preview.selected === null) {
-    box.textContent = 'Nothing selected (the background).';
+  if (preview.selected === null || !scene) {
+    box.textContent = 'Nothing selected.';
+    $('material').replaceChildren();
     return;
   }
   const object = scene.objects[preview.selected];
-  const material = scene.materials[hit.material];
+  const materialIndex = state.selection.material;
+  const material = scene.materials[materialIndex];
   box.textContent = `object ${preview.selected} (${object.type}${object.file ? `: ${object.file.split('/').pop()}` : ''})` +
-    `, material "${material.name}" (${material.type})`;
-  if (material.editable) buildMaterialForm(form, hit.material, material.fields);
-  else box.textContent += ': defined by the mesh file, not editable here';
+    (material ? `, material "${material.name}" (${material.type})` : '');
+  refreshMaterialForm();
+  if (material && !material.editable) box.textContent += ': defined by the mesh file, not editable here';
+}
+
+// The selected material's form, as the scene in force has it (not while the user is typing in
+// it, unless `force`).
+function refreshMaterialForm(force = false) {
+  const form = $('material');
+  if (!force && form.contains(document.activeElement)) return;
+  form.replaceChildren();
+  if (!state || !scene || preview.selected === null) return;
+  const index = state.selection.material;
+  const material = scene.materials[index];
+  if (material && material.editable) buildMaterialForm(form, index, material.fields);
 }
 
 function numberInput(value, onChange) {
@@ -337,20 +491,21 @@ function buildMaterialForm(form, index, fields) {
   for (const [key, value] of Object.entries(fields)) {
     const label = document.createElement('label');
     label.append(key);
-    const send = (v) => {
-      materialEdits = materialEdits.then(() => edit(`/api/materials/${index}`, { [key]: v }))
-        .then(() => refreshMaterials()).catch(() => {});  // a failure must not stop later edits
+    const send = (v, input) => {
+      materialEdits = materialEdits.then(() => edit(`/api/materials/${index}`, { [key]: v }, input))
+        .catch(() => {});  // a failure must not stop later edits
       return materialEdits;
     };
     if (typeof value === 'number') {
-      const input = numberInput(value, () => send(Number(input.value)));
+      const input = numberInput(value, () => send(Number(input.value), input));
       input.name = key;
+      input.dataset.material = index;
       label.append(input);
     } else if (Array.isArray(value) && value.length === 3 && value.every((v) => typeof v === 'number')) {
       const vec = document.createElement('span');
       vec.className = 'vec';
-      const inputs = value.map((v) => numberInput(v, () => send(inputs.map((i) => Number(i.value)))));
-      inputs.forEach((input, i) => { input.name = `${key}.${i}`; });
+      const inputs = value.map((v) => numberInput(v, (e) => send(inputs.map((i) => Number(i.value)), e.target)));
+      inputs.forEach((input, i) => { input.name = `${key}.${i}`; input.dataset.material = index; });
       vec.append(...inputs);
       label.append(vec);
     } else {
@@ -363,12 +518,7 @@ function buildMaterialForm(form, index, fields) {
   form.append(set);
 }
 
-async function refreshMaterials() {
-  const response = await fetch('/api/scene', { cache: 'no-store' });
-  if (response.ok) scene = await response.json();
-}
-
-// ---- Mouse ------------------------------------------------------------------------------------
+// ---- Mouse and keys ---------------------------------------------------------------------------
 function bindMouse() {
   const img = $('view');
   let drag = null;  // {x, y, mode: 'pending'|'orbit'|'pan'|'move', moved, hit, queued}
@@ -377,7 +527,9 @@ function bindMouse() {
     if (!scene) return;
     e.preventDefault();
     const panning = e.button === 2 || e.shiftKey;
-    drag = { x: e.clientX, y: e.clientY, moved: false, queued: [], mode: panning ? 'pan' : 'pending' };
+    drag = { x: e.clientX, y: e.clientY, moved: false, queued: [], mode: panning ? 'pan' : 'pending',
+      pixel: imagePixel(e) };
+    interacting += 1;
     drag.hit = pick(e);
     const current = drag;
     drag.hit.then((hit) => {
@@ -396,17 +548,20 @@ function bindMouse() {
     if (!drag.moved && Math.hypot(dx, dy) < 3) return;
     drag.moved = true;
     img.classList.add('dragging');
+    $('outline').hidden = true;  // stale while the view moves
     drag.x = e.clientX;
     drag.y = e.clientY;
     if (drag.mode === 'pending') drag.queued.push([dx, dy]);
     else apply(drag, dx, dy);
   });
-  window.addEventListener('mouseup', async () => {
+  window.addEventListener('mouseup', () => {
     if (!drag) return;
     const done = drag;
     drag = null;
+    interacting -= 1;
     img.classList.remove('dragging', 'moving');
-    if (!done.moved) select(await done.hit);
+    if (!done.moved) edit('/api/select', done.pixel);
+    else refreshOutline();
   });
   img.addEventListener('wheel', (e) => {
     e.preventDefault();
@@ -427,17 +582,28 @@ function apply(drag, dx, dy) {
   sendCamera(structuredClone(camera));
 }
 
-async function start() {
-  try {
-    await loadScene();
-  } catch (e) {
-    $('status').textContent = 'cannot reach the server';
-    setTimeout(start, 1000);
-    return;
-  }
-  bindFlags();
+// F: frame the selection, Home: the scene's camera, Esc: deselect, D: denoise (when offered).
+function bindKeys() {
+  window.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey || e.target.closest('input, select, textarea')) return;
+    const key = e.key.toLowerCase();
+    if (key === 'f') frameSelected();
+    else if (key === 'home') resetCamera();
+    else if (key === 'escape') deselect();
+    else if (key === 'd' && scene && scene.options.denoise_available) {
+      edit('/api/options', { denoise: !state.options.denoise }, $('f-denoise'));
+    } else return;
+    e.preventDefault();
+  });
+}
+
+function start() {
+  bindControls();
   bindMouse();
-  window.addEventListener('resize', fitView);
+  bindKeys();
+  window.addEventListener('resize', () => scene && fitView());
+  setInterval(showFps, 500);
+  connectEvents();
   frameLoop();
 }
 start();

@@ -137,6 +137,24 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
        }},
       {"--threads", [](CliOptions& o, ValueSource& s) { o.threads = ParseInt(s, 0, 1 << 16); }},
       {"--bind", [](CliOptions& o, ValueSource& s) { o.bindAddress = s.Take(); }},
+      {"--env-dir", [](CliOptions& o, ValueSource& s) { o.envFolder = TakePath(s); }},
+      {"--exposure",
+       [](CliOptions& o, ValueSource& s) {
+         std::string text = s.Take();
+         char* end = nullptr;
+         double v = std::strtod(text.c_str(), &end);
+         if (text.empty() || *end != '\0' || !std::isfinite(v) || std::fabs(v) > 20.0) {
+           throw CliError("bad value for --exposure: '" + text + "' (stops in [-20, 20])");
+         }
+         o.display.exposure = float(v);
+       }},
+      {"--tonemap",
+       [](CliOptions& o, ValueSource& s) {
+         std::string name = s.Take();
+         if (!ParseToneMapping(name, &o.display.toneMapping)) {
+           throw CliError("bad value for --tonemap: '" + name + "' (expected clip|agx)");
+         }
+       }},
       {"--time-limit",
        [](CliOptions& o, ValueSource& s) { o.timeLimitSeconds = ParsePositiveSeconds(s); }},
       {"--preview-every",
@@ -383,10 +401,12 @@ void CheckExtension(const std::string& option, const std::string& path, bool all
   }
 }
 
-// The live preview writes no files (the page saves them) and renders every pixel alike.
+// The live preview writes -o and --hdr only when it stops (Ctrl-C), and renders every pixel
+// alike.
 void CheckServe(const CliOptions& o) {
+  if (!o.outputPath.empty()) CheckExtension("-o", o.outputPath, true);
+  if (!o.hdrPath.empty()) CheckExtension("--hdr", o.hdrPath, false);
   std::pair<bool, const char*> refused[] = {
-      {!o.outputPath.empty(), "-o"},          {!o.hdrPath.empty(), "--hdr"},
       {!o.sppMapPath.empty(), "--spp-map"},   {!o.statsJsonPath.empty(), "--stats-json"},
       {!o.referencePath.empty(), "--reference"}, {o.crop.has_value(), "--crop"},
       {!o.resumePath.empty(), "--resume"},    {o.checkpointEverySeconds > 0.0, "--checkpoint-every"},
@@ -403,6 +423,7 @@ void CheckServe(const CliOptions& o) {
 void CheckRequired(const CliOptions& options) {
   if (options.scenePath.empty()) throw CliError("missing the scene file (SCENE.json)");
   if (!options.bindAddress.empty() && !options.servePort) throw CliError("--bind needs --serve");
+  if (!options.envFolder.empty() && !options.servePort) throw CliError("--env-dir needs --serve");
   if (options.servePort) return CheckServe(options);
   if (options.outputPath.empty()) throw CliError("missing -o FILE");
   CheckExtension("-o", options.outputPath, true);

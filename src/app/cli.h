@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "src/integrator/render_api.h"
+#include "src/io/tone_mapping.h"
 #include "src/scene/scene.h"
 
 namespace pt {
@@ -81,6 +82,9 @@ struct CliOptions {
   // --serve [PORT]: the live preview in a browser instead of an output file (src/app/serve.h).
   std::optional<int> servePort;
   std::string bindAddress;  // --bind, empty = 127.0.0.1
+  std::string envFolder;    // --env-dir: the preview's environment maps (default: the scene's folder)
+  // --exposure and --tonemap: how -o's PNG and the preview's display map radiance to 8 bits.
+  DisplaySettings display;
 
   bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
 

@@ -103,8 +103,14 @@ Long renders
 
 Live preview
   --serve [PORT]           render progressively for a browser at http://127.0.0.1:PORT/
-                           instead of writing -o (default port 8765; see docs/serve.md)
+                           (default port 8765; see docs/serve.md); -o and --hdr are
+                           written when Ctrl-C stops it
   --bind ADDR              with --serve: listen on ADDR instead of 127.0.0.1
+  --env-dir DIR            with --serve: the environment maps the page offers (default:
+                           the scene's folder)
+  --exposure STOPS         the PNG's (and the preview's) exposure, in [-20, 20] (default 0)
+  --tonemap clip|agx       the PNG's (and the preview's) tone mapping: plain sRGB clipping
+                           (default) or an AgX-style filmic curve (docs/cli.md)
 
   --help, --version
 

@@ -7,6 +7,7 @@
 #include "src/app/run.h"
 #include "src/io/film_state_exr.h"
 #include "src/io/image_io.h"
+#include "src/io/tone_mapping.h"
 
 namespace pt {
 
@@ -22,6 +23,17 @@ void CheckOutputsWritable(const CliOptions& cli) {
 
 void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const ResumableState& state) {
   WriteResumableExr(cli.hdrPath, image, *state.film, state.doubleFilm, state.description);
+}
+
+void WriteDisplayImage(const std::string& path, const FilmImage& image,
+                       const DisplaySettings& display) {
+  ImageFormat format;
+  if (display.IsDefault() || !ImageFormatFromPath(path, &format) || format != ImageFormat::kPng) {
+    WriteImage(path, image, false);  // linear formats are never tone-mapped
+    return;
+  }
+  WriteFileAtomic(path, EncodePng8(path, image.width, image.height,
+                                   DisplayPixels(image.rgb, display)));
 }
 
 // The files are encoded and written at once, each on a thread of its own (the EXR's
@@ -48,9 +60,9 @@ std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& ima
       shown.width = image.width;
       shown.height = image.height;
       shown.rgb = image.denoised;
-      WriteImage(cli.outputPath, shown, false);
+      WriteDisplayImage(cli.outputPath, shown, cli.display);
     } else {
-      WriteImage(cli.outputPath, image, false);
+      WriteDisplayImage(cli.outputPath, image, cli.display);
     }
   } catch (...) {
     failure = std::current_exception();

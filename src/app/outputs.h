@@ -26,6 +26,11 @@ struct ResumableState {
 std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& image,
                                      const ResumableState* state);
 
+// The image at path in its extension's format; a PNG through the display settings (exposure
+// and tone mapping; the default is plain sRGB clipping). Throws ImageError.
+void WriteDisplayImage(const std::string& path, const FilmImage& image,
+                       const DisplaySettings& display);
+
 // A checkpoint: the --hdr EXR with the state. Throws ImageError.
 void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const ResumableState& state);
 

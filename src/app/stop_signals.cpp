@@ -11,6 +11,8 @@ namespace {
 constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
 std::atomic<int> gStopSignal{0};
+constexpr const char* kDefaultDoing = "stopping after this wave and writing the image";
+std::atomic<const char*> gDoing{kDefaultDoing};
 
 void WriteStderr(const char* text, size_t size) {
   ssize_t ignored = write(STDERR_FILENO, text, size);
@@ -36,10 +38,9 @@ extern "C" void OnStopSignal(int signal) {
     sigaction(SIGPIPE, &ignore, nullptr);
   }
   const char* name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP";
-  char message[160] = "\npathtracer: ";
+  char message[240] = "\npathtracer: ";
   size_t n = 13;
-  for (const char* part : {name, " received: stopping after this wave and writing the image "
-                                 "(a second signal quits at once)\n"}) {
+  for (const char* part : {name, " received: ", gDoing.load(), " (a second signal quits at once)\n"}) {
     for (; *part && n + 1 < sizeof(message); ++part) message[n++] = *part;
   }
   WriteStderr(message, n);
@@ -47,7 +48,8 @@ extern "C" void OnStopSignal(int signal) {
 
 }  // namespace
 
-void InstallStopSignals() {
+void InstallStopSignals(const char* doing) {
+  gDoing = doing ? doing : kDefaultDoing;
   struct sigaction action = {};
   action.sa_handler = OnStopSignal;
   sigemptyset(&action.sa_mask);

@@ -7,7 +7,9 @@
 
 namespace pt {
 
-void InstallStopSignals();
+// `doing` replaces what the first signal's message says happens next ("stopping after this
+// wave and writing the image"); it must outlive the process's signals (a literal).
+void InstallStopSignals(const char* doing = nullptr);
 
 // The first stop signal that arrived, or 0.
 int StopSignal();

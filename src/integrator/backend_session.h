@@ -23,6 +23,9 @@ class BackendSession final : public RenderSession {
   uint64_t RenderRange(uint32_t begin, uint32_t end) override {
     return integrator_.RenderRange(begin, end);
   }
+  uint64_t RenderCoarse(uint32_t width, uint32_t height, uint32_t begin, uint32_t end) override {
+    return integrator_.RenderCoarse(width, height, begin, end);
+  }
   uint64_t RenderUpTo(uint32_t spp) override { return integrator_.RenderUpTo(spp); }
   void SaveFilmInto(FilmState& film) override { integrator_.SaveFilmInto(film); }
   void SnapshotFilm() override { integrator_.SnapshotFilm(); }

@@ -133,6 +133,9 @@ struct RenderCallbacks {
   std::function<bool()> shouldStop;                     // polled between waves (Ctrl-C)
   std::function<void(const FilmImage&)> onPreview;      // every previewEverySeconds
   std::function<void(uint64_t done, uint64_t total)> onProgress;
+  // Polled between bounces: true drops the wave under way (none of its samples reach the
+  // film) and ends the render step, as shouldStop does (a live preview's newer edit).
+  std::function<bool()> abandonWave;
 };
 
 struct RenderResult {

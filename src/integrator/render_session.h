@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 
 #include "src/integrator/render_api.h"
 
@@ -22,6 +23,13 @@ class RenderSession {
   // Every pixel of the crop takes samples [begin, end), in sample order. Returns the samples
   // taken (fewer when the stop callback or time limit ends it between waves).
   virtual uint64_t RenderRange(uint32_t begin, uint32_t end) = 0;
+  // Samples [begin, end) of a coarse image of width x height pixels (no more than the film's,
+  // the same field of view) into the film's first width x height entries, as a film of that
+  // width: a live preview's quick frames. Reset the film before and after.
+  virtual uint64_t RenderCoarse(uint32_t width, uint32_t height, uint32_t begin, uint32_t end) {
+    (void)width, (void)height, (void)begin, (void)end;
+    throw std::logic_error("this session renders no coarse images");
+  }
   // Each pixel takes samples from its own count up to spp (resuming an interrupted render).
   virtual uint64_t RenderUpTo(uint32_t spp) = 0;
 

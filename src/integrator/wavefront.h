@@ -67,6 +67,26 @@ class WavefrontIntegrator {
     });
   }
 
+  // Samples [begin, end) of a coarse image of width x height pixels (at most the crop's
+  // pixel count, same field of view) into the film's first width x height entries, as a film
+  // of that width: a live preview's quick frames while the view moves. The caller resets the
+  // film before and after.
+  uint64_t RenderCoarse(uint32_t width, uint32_t height, uint32_t begin, uint32_t end) {
+    if (width == 0 || height == 0 || uint64_t(width) * height > plan_.cropPixels)
+      throw std::invalid_argument("a coarse image must be no larger than the film");
+    return Timed([&] {
+      WaveInfo base = plan_.base;
+      base.cropX0 = base.cropY0 = 0;
+      base.cropWidth = base.imageWidth = width;
+      base.imageHeight = height;
+      std::vector<WaveInfo> waves;
+      uint32_t pixels = width * height, count = end > begin ? end - begin : 0;
+      if (count > 0) AppendWaves(base, nullptr, pixels, begin, count, PathCapacity(), waves);
+      filmFresh_ = false;
+      return RenderWaves(waves, 0, uint64_t(pixels) * count);
+    });
+  }
+
   uint64_t RenderUpTo(uint32_t spp) {
     return Timed([&] { return UpTo(spp); });
   }
@@ -106,7 +126,10 @@ class WavefrontIntegrator {
   uint64_t RenderWaves(const std::vector<WaveInfo>& waves, uint64_t done, uint64_t total) {
     for (const WaveInfo& wave : waves) {
       if (StopRequested()) break;
-      RunWave(wave);
+      if (!RunWave(wave)) {  // abandoned: nothing of it reached the film
+        stats_.interrupted = stopped_ = true;
+        break;
+      }
       done += wave.PathCount();
       AfterWave(done, total);
     }
@@ -147,7 +170,8 @@ class WavefrontIntegrator {
   }
 
   // ---- One wave, bounce by bounce ----
-  void RunWave(const WaveInfo& wave) {
+  // False when RenderCallbacks::abandonWave dropped it between bounces (not accumulated).
+  bool RunWave(const WaveInfo& wave) {
     uint32_t n = wave.PathCount();
     if (n > queue_.Size()) throw std::logic_error("wave larger than the path buffers");
     GenerateCameraRays(wave);
@@ -165,6 +189,10 @@ class WavefrontIntegrator {
       // Every path is at depth `bounce` here, and shading ends each one at maxDepth before it
       // queues a light sample: after the last bounce there is nothing to trace or compact.
       if (bounce >= params_.maxDepth) break;
+      if (callbacks_.abandonWave && callbacks_.abandonWave()) {
+        backend_.Synchronize();
+        return false;
+      }
       // Shadow rays leave the hit points of the rays just traced: in the traced order, rays that
       // arrived together leave together towards the same lights.
       TraceShadowRays(wave, traced, n);
@@ -173,6 +201,7 @@ class WavefrontIntegrator {
     }
     Accumulate(wave);
     backend_.Synchronize();
+    return true;
   }
 
   // Initialise: the active pixel list starts as every pixel of the crop window.

@@ -141,15 +141,7 @@ std::string EncodePng(const std::string& path, const FilmImage& image) {
   (void)filterSet;
   std::vector<uint8_t> bytes(image.rgb.size());
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = LinearToSrgb8(image.rgb[i]);
-  std::string out;
-  auto append = [](void* context, void* data, int size) {
-    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
-  };
-  if (!stbi_write_png_to_func(append, &out, image.width, image.height, 3, bytes.data(),
-                              image.width * 3)) {
-    throw ImageError(path + ": PNG encoding failed");
-  }
-  return out;
+  return EncodePng8(path, image.width, image.height, bytes);
 }
 
 std::string EncodePfm(const FilmImage& image) {
@@ -261,6 +253,23 @@ std::string EncodeImage(const std::string& name, const FilmImage& image, ImageFo
     case ImageFormat::kPfm: return EncodePfm(image);
   }
   throw ImageError(name + ": unknown image format");
+}
+
+std::string EncodePng8(const std::string& name, int width, int height,
+                       const std::vector<uint8_t>& pixels, int channels) {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      pixels.size() != size_t(width) * size_t(height) * size_t(channels)) {
+    throw ImageError(name + ": image size does not match its pixel data");
+  }
+  std::string out;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+  };
+  if (!stbi_write_png_to_func(append, &out, width, height, channels, pixels.data(),
+                              width * channels)) {
+    throw ImageError(name + ": PNG encoding failed");
+  }
+  return out;
 }
 
 std::string EncodeJpeg(int width, int height, const std::vector<uint8_t>& srgb, int quality) {

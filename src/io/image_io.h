@@ -41,6 +41,11 @@ void WriteImage(const std::string& path, const FilmImage& image, bool withExtras
 std::string EncodeImage(const std::string& name, const FilmImage& image, ImageFormat format,
                         bool withExtras = false);
 
+// 8-bit display pixels (`channels` a pixel: 3 RGB, 4 RGBA; rows top to bottom) as a PNG;
+// `name` is for messages.
+std::string EncodePng8(const std::string& name, int width, int height,
+                       const std::vector<uint8_t>& pixels, int channels = 3);
+
 // 8-bit sRGB pixels (3 a pixel, rows top to bottom) as a baseline JPEG of quality 1..100.
 std::string EncodeJpeg(int width, int height, const std::vector<uint8_t>& srgb, int quality);
 

@@ -5,6 +5,7 @@
 #include <charconv>
 
 #include "src/io/image_io.h"
+#include "src/io/tone_mapping.h"
 #include "src/server/live_render.h"
 
 namespace pt {
@@ -69,7 +70,10 @@ ApiResponse FrameResponse(LiveRender& live, const ApiRequest& request) {
   r.body = frame->jpeg;
   r.headers = {{"X-Frame-Id", std::to_string(frame->id)},
                {"X-Generation", std::to_string(frame->generation)},
-               {"X-Spp", std::to_string(frame->spp)}};
+               {"X-Spp", std::to_string(frame->spp)},
+               {"X-Frame-Kind", frame->kind},
+               {"X-Width", std::to_string(frame->width)},
+               {"X-Height", std::to_string(frame->height)}};
   return r;
 }
 
@@ -81,26 +85,43 @@ ApiResponse Download(std::string body, const std::string& type, const std::strin
   return r;
 }
 
+// The PNG is what the page shows (exposure, tone mapping, denoising); the EXR stays linear
+// (with the denoised layer when it has one).
 ApiResponse ImageDownload(LiveRender& live, ImageFormat format) {
   std::shared_ptr<const FilmImage> image = live.LatestImage();
   if (!image) return ErrorResponse(503, "no image yet");
-  bool png = format == ImageFormat::kPng;
-  return Download(EncodeImage("preview", *image, format, !png),
-                  png ? "image/png" : "image/x-exr", png ? "preview.png" : "preview.exr");
+  if (format == ImageFormat::kPng) {
+    bool denoised = live.Denoising() && !image->denoised.empty();
+    return Download(EncodePng8("preview.png", image->width, image->height,
+                               DisplayPixels(denoised ? image->denoised : image->rgb,
+                                             live.Display())),
+                    "image/png", "preview.png");
+  }
+  return Download(EncodeImage("preview", *image, format, true), "image/x-exr", "preview.exr");
 }
 
-ApiResponse Generation(uint64_t generation) { return JsonResponse(Json{{"generation", generation}}); }
+ApiResponse Answer(const EditAnswer& a) {
+  return JsonResponse(Json{{"generation", a.generation}, {"restarts", a.restarts}});
+}
 
 ApiResponse Get(LiveRender& live, const ApiRequest& request) {
   const std::string& p = request.path;
   if (p == "/api/scene") return ApiResponse{200, "application/json", live.DescribeJson(), {}};
+  if (p == "/api/state") return ApiResponse{200, "application/json", live.StateJson(), {}};
+  if (p == "/api/progress") return ApiResponse{200, "application/json", live.ProgressJson(), {}};
   if (p == "/api/frame") return FrameResponse(live, request);
   if (p == "/api/stats") {
     std::shared_ptr<const PreviewFrame> frame = live.LatestFrame();
     if (!frame) return ErrorResponse(503, "no frame yet");
-    Json stats = Json::parse(frame->statsJson);
-    stats["frame"] = frame->id;
-    return JsonResponse(stats);
+    return ApiResponse{200, "application/json", frame->statsJson, {}};
+  }
+  if (p == "/api/outline.png") {
+    auto it = request.query.find("max");
+    int64_t side = it == request.query.end() ? 320 : ParseIndex(it->second);
+    if (side < 1 || side > 4096) return ErrorResponse(400, "max must be a side in [1, 4096]");
+    std::string png = live.OutlinePng(int(side));
+    if (png.empty()) return ApiResponse{204, "text/plain", "", {}};
+    return ApiResponse{200, "image/png", std::move(png), {}};
   }
   if (p == "/api/image.png") return ImageDownload(live, ImageFormat::kPng);
   if (p == "/api/image.exr") return ImageDownload(live, ImageFormat::kExr);
@@ -108,13 +129,47 @@ ApiResponse Get(LiveRender& live, const ApiRequest& request) {
   return ErrorResponse(404, "no such resource: GET " + p);
 }
 
+// {"choose": N}: one of the offered cameras; {"frame": "selection"}: fit the selected object;
+// anything else: camera fields merged into the camera.
+ApiResponse PostCamera(LiveRender& live, const Json& body) {
+  if (body.is_object() && body.contains("choose")) {
+    if (body.size() != 1) return ErrorResponse(400, "choose goes alone");
+    int64_t index = body["choose"].is_number_integer() ? body["choose"].get<int64_t>() : -1;
+    if (index < 0) return ErrorResponse(400, "choose needs a camera index");
+    return Answer(live.ChooseCamera(size_t(index)));
+  }
+  if (body.is_object() && body.contains("frame")) {
+    if (body.size() != 1 || body["frame"] != "selection") {
+      return ErrorResponse(400, "expected {\"frame\": \"selection\"}");
+    }
+    return Answer(live.FrameSelected());
+  }
+  return Answer(live.EditCamera(body));
+}
+
+// {"x", "y"}: the object seen at that pixel becomes the selection; {"object": null}: none.
+ApiResponse PostSelect(LiveRender& live, const Json& body) {
+  if (body.is_object() && body.contains("object") && body["object"].is_null()) {
+    live.Select(-1, -1);
+    return JsonResponse(Json{{"object", nullptr}, {"material", nullptr}});
+  }
+  PickResult hit = live.Pick(NumberField(body, "x"), NumberField(body, "y"));
+  live.Select(hit.object, hit.material);
+  Json j{{"object", nullptr}, {"material", nullptr}};
+  if (hit.object >= 0) j["object"] = hit.object;
+  if (hit.material >= 0 && hit.object >= 0) j["material"] = hit.material;
+  return JsonResponse(j);
+}
+
 ApiResponse Post(LiveRender& live, const ApiRequest& request) {
   const std::string& p = request.path;
   const std::string objects = "/api/objects/", materials = "/api/materials/";
-  if (p == "/api/camera") return Generation(live.EditCamera(ParseBody(request)));
-  if (p == "/api/options") return Generation(live.EditOptions(ParseBody(request)));
+  if (p == "/api/camera") return PostCamera(live, ParseBody(request));
+  if (p == "/api/options") return Answer(live.EditOptions(ParseBody(request)));
+  if (p == "/api/lighting") return Answer(live.EditLighting(ParseBody(request)));
+  if (p == "/api/select") return PostSelect(live, ParseBody(request));
   if (p == "/api/display") {
-    live.SetExposure(NumberField(ParseBody(request), "exposure"));
+    live.EditDisplay(ParseBody(request));
     return JsonResponse(Json::object());
   }
   if (p == "/api/pick") {
@@ -133,12 +188,12 @@ ApiResponse Post(LiveRender& live, const ApiRequest& request) {
       p.compare(p.size() - 5, 5, "/move") == 0) {
     int64_t index = ParseIndex(p.substr(objects.size(), p.size() - objects.size() - 5));
     if (index < 0) return ErrorResponse(404, "no such object: " + p);
-    return Generation(live.MoveObject(size_t(index), Vec3Field(ParseBody(request), "translate")));
+    return Answer(live.MoveObject(size_t(index), Vec3Field(ParseBody(request), "translate")));
   }
   if (p.rfind(materials, 0) == 0) {
     int64_t index = ParseIndex(p.substr(materials.size()));
     if (index < 0) return ErrorResponse(404, "no such material: " + p);
-    return Generation(live.EditMaterial(size_t(index), ParseBody(request)));
+    return Answer(live.EditMaterial(size_t(index), ParseBody(request)));
   }
   return ErrorResponse(404, "no such resource: POST " + p);
 }
@@ -157,11 +212,35 @@ std::string Bracketed(const std::string& address) {
 
 }  // namespace
 
-ApiResponse ErrorResponse(int status, const std::string& message) {
+ApiResponse ErrorResponse(int status, const std::string& message, const std::string& field) {
   ApiResponse r;
   r.status = status;
-  r.body = Json{{"error", message}}.dump();
+  Json body{{"error", message}};
+  if (!field.empty()) body["field"] = field;
+  r.body = body.dump();
   return r;
+}
+
+std::string NextEvents(LiveRender& live, EventCursor& cursor, std::chrono::milliseconds wait) {
+  ChangeFeed::Versions now = live.Feed().Wait(cursor.seen, wait);
+  std::string out;
+  auto event = [&](const char* name, const std::string& data) {
+    out.append("event: ").append(name).append("\ndata: ").append(data).append("\n\n");
+  };
+  // Everything on the first call: a page (re)loaded shows what the render uses.
+  bool first = !cursor.started;
+  cursor.started = true;
+  if (first || now[ChangeFeed::kScene] != cursor.seen[ChangeFeed::kScene]) {
+    event("scene", live.DescribeJson());
+  }
+  if (first || now[ChangeFeed::kState] != cursor.seen[ChangeFeed::kState]) {
+    event("state", live.StateJson());
+  }
+  if (first || now[ChangeFeed::kProgress] != cursor.seen[ChangeFeed::kProgress]) {
+    event("progress", live.ProgressJson());
+  }
+  cursor.seen = now;
+  return out;
 }
 
 ApiResponse HandleApi(LiveRender& live, const ApiRequest& request) {
@@ -170,7 +249,7 @@ ApiResponse HandleApi(LiveRender& live, const ApiRequest& request) {
     if (request.method == "POST") return Post(live, request);
     return ErrorResponse(405, "method " + request.method + " is not allowed");
   } catch (const EditError& e) {
-    return ErrorResponse(e.status, e.what());
+    return ErrorResponse(e.status, e.what(), e.field);
   } catch (const Json::exception& e) {
     return ErrorResponse(400, std::string("bad JSON value: ") + e.what());
   } catch (const ImageError& e) {

@@ -2,13 +2,19 @@
 
 #include <httplib.h>
 
+#include <chrono>
+#include <memory>
 #include <stdexcept>
 #include <thread>
+
+#include "src/server/live_render.h"
 
 namespace pt {
 namespace {
 
 constexpr time_t kTimeoutSeconds = 5;
+constexpr auto kEventWait = std::chrono::milliseconds(250);
+constexpr int kKeepAliveEvery = 40;  // quiet waits: a comment every 10 s
 
 void Send(const ApiResponse& api, httplib::Response& res) {
   res.status = api.status;
@@ -52,6 +58,9 @@ class HttplibServer final : public HttpServer {
     server_.set_default_headers(SafetyHeaders());
     server_.set_pre_routing_handler(
         [this](const httplib::Request& req, httplib::Response& res) { return Check(req, res); });
+    server_.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
+      Events(res);
+    });
     auto api = [this](const httplib::Request& req, httplib::Response& res) { Api(req, res); };
     server_.Get("/api/.*", api);
     server_.Post("/api/.*", api);
@@ -116,6 +125,25 @@ class HttplibServer final : public HttpServer {
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
+  }
+
+  // Server-sent events: each call of the provider waits up to kEventWait for a change (so
+  // a stopping server ends the stream soon), a comment now and then finds clients gone.
+  void Events(httplib::Response& res) {
+    auto cursor = std::make_shared<EventCursor>();
+    auto quiet = std::make_shared<int>(0);
+    res.set_chunked_content_provider(
+        "text/event-stream", [this, cursor, quiet](size_t, httplib::DataSink& sink) {
+          if (live_.Feed().Closed()) {
+            sink.done();
+            return true;
+          }
+          std::string text = NextEvents(live_, *cursor, kEventWait);
+          if (text.empty() && ++*quiet % kKeepAliveEvery == 0) text = ": keep-alive\n\n";
+          if (text.empty()) return true;
+          *quiet = 0;
+          return sink.write(text.data(), text.size());
+        });
   }
 
   void Api(const httplib::Request& req, httplib::Response& res) {

@@ -1,47 +1,15 @@
+// LiveRender: construction, what clients read, and the edits they send (checked here, on the
+// calling thread; applied by the render thread, src/server/live_render_loop.cpp).
 #include "src/server/live_render.h"
 
 #include <cmath>
 #include <cstdio>
-#include <map>
-#include <optional>
 
-#include "src/io/image_io.h"
 #include "src/io/scene_loader.h"
-#include "src/lights/light_table.h"
-#include "src/scene/instances.h"
 
 namespace pt {
 
-using Clock = std::chrono::steady_clock;
-
-namespace {
-
-double MsBetween(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-// A pass aims at this much render time, so frames keep coming while the film converges.
-constexpr double kPassTargetMs = 60.0;
-constexpr uint32_t kMaxSamplesPerPass = 16;
-
-}  // namespace
-
-// The encoder's input: the newest film image waiting to become a frame.
-struct LiveRender::Encoding {
-  std::shared_ptr<const FilmImage> image;
-  uint64_t generation = 0;
-  uint32_t spp = 0;
-  std::string statsJson;
-  Clock::time_point editReceived;  // set on a generation's first frame
-  bool waiting = false;
-};
-
-std::vector<uint8_t> ToneMap(const FilmImage& image, float stops) {
-  float scale = std::exp2(stops);
-  std::vector<uint8_t> out(image.rgb.size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = LinearToSrgb8(image.rgb[i] * scale);
-  return out;
-}
+using LiveClock = std::chrono::steady_clock;
 
 LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSession,
                        LiveSettings settings)
@@ -53,6 +21,10 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
       options_(settings.options),
       settings_(std::move(settings)),
       encoding_(std::make_unique<Encoding>()) {
+  document_.ResolveCamera(scene_.desc.camera);  // a glTF or automatic camera, as positioned
+  cameras_.push_back(NamedCamera{"the scene's camera", scene_.desc.camera});
+  cameras_.insert(cameras_.end(), settings_.cameras.begin(), settings_.cameras.end());
+  display_ = settings_.display;
   width_ = scene_.desc.render.width;
   height_ = scene_.desc.render.height;
   targetSpp_ = uint32_t(scene_.desc.render.spp);
@@ -66,9 +38,14 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
   requestedOptions_ = options_;
   RenderCallbacks callbacks;
   callbacks.shouldStop = [this] { return editsWaiting_.load() || stop_.load(); };
+  // A newer edit drops the full-resolution wave under way; a coarse frame is short and is
+  // what keeps frames coming while the view moves.
+  callbacks.abandonWave = [this] {
+    return stop_.load() || (editsWaiting_.load() && !coarseUnderWay_.load());
+  };
   session_ = makeSession(scene_, options_, callbacks);
   generationStart_ = lastPassEnd_ = session_->Stats();
-  lastPublish_ = Clock::now();
+  lastPublish_ = LiveClock::now();
   renderThread_ = std::thread([this] { RenderLoop(); });
   encodeThread_ = std::thread([this] { EncodeLoop(); });
 }
@@ -85,8 +62,25 @@ void LiveRender::Stop() {
     std::lock_guard<std::mutex> lock(frameMutex_);
   }
   frameReady_.notify_all();
+  feed_.Close();
   if (renderThread_.joinable()) renderThread_.join();
   if (encodeThread_.joinable()) encodeThread_.join();
+}
+
+std::shared_ptr<const FilmImage> LiveRender::FinalImage(uint32_t* spp) {
+  *spp = 0;
+  if (renderThread_.joinable()) return nullptr;  // only after Stop
+  std::shared_ptr<const FilmImage> image;
+  if (filmHoldsCoarse_ || spp_ == 0) {
+    std::lock_guard<std::mutex> lock(frameMutex_);
+    if (image_) *spp = image_->samples.empty() ? 0u : image_->samples[0];
+    image = image_;
+  } else {
+    *spp = spp_;
+    image = std::make_shared<const FilmImage>(session_->Image());
+  }
+  double ms;  // the encoder has stopped: the denoiser is free
+  return image ? Displayed(image, &ms) : image;
 }
 
 // ---- Reading ----------------------------------------------------------------------------------
@@ -97,7 +91,7 @@ std::shared_ptr<const PreviewFrame> LiveRender::LatestFrame() const {
 }
 
 std::shared_ptr<const PreviewFrame> LiveRender::WaitForFrame(uint64_t after,
-                                                      std::chrono::milliseconds timeout) {
+                                                             std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(frameMutex_);
   frameReady_.wait_for(lock, timeout, [&] { return stop_ || (frame_ && frame_->id > after); });
   return frame_;
@@ -108,9 +102,19 @@ std::shared_ptr<const FilmImage> LiveRender::LatestImage() const {
   return image_;
 }
 
+std::string LiveRender::ProgressJson() const {
+  std::lock_guard<std::mutex> lock(frameMutex_);
+  return progressJson_;
+}
+
 std::string LiveRender::SceneText() const {
   std::lock_guard<std::mutex> lock(docMutex_);
   return document_.Text();
+}
+
+DisplaySettings LiveRender::Display() const {
+  std::lock_guard<std::mutex> lock(docMutex_);
+  return display_;
 }
 
 PickResult LiveRender::Pick(float x, float y) const {
@@ -125,257 +129,170 @@ PickResult LiveRender::Pick(float x, float y) const {
 
 // ---- Edits ------------------------------------------------------------------------------------
 
-uint64_t LiveRender::Queue(const std::function<void(Pending&)>& edit) {
-  std::lock_guard<std::mutex> lock(docMutex_);
-  try {
-    edit(*pending_);
-  } catch (const SceneError& e) {
-    throw EditError(422, e.what());
-  }
-  if (pending_->restart) {
-    if (!editsWaiting_) pending_->firstReceived = Clock::now();
-    ++requestedGeneration_;
-  }
-  {
-    std::lock_guard<std::mutex> wakeLock(wakeMutex_);
-    editsWaiting_ = editsWaiting_ || pending_->restart;
-    wakeCalls_ = true;
-  }
-  wake_.notify_all();
-  return requestedGeneration_;
-}
-
-uint64_t LiveRender::EditCamera(const Json& fields) {
-  if (!fields.is_object()) throw EditError(400, "the camera must be a JSON object");
-  return Queue([&](Pending& p) {
-    p.camera = document_.EditCamera(fields);
-    p.restart = true;
-  });
-}
-
-uint64_t LiveRender::EditMaterial(size_t index, const Json& fields) {
-  if (!fields.is_object()) throw EditError(400, "the material must be a JSON object");
-  return Queue([&](Pending& p) {
-    if (index >= document_.MaterialCount()) {
-      throw EditError(404, "no material " + std::to_string(index) + " in the scene file");
-    }
-    p.materials[index] = document_.EditMaterial(index, fields);
-    p.restart = true;
-  });
-}
-
-uint64_t LiveRender::MoveObject(size_t index, vec3 delta) {
-  if (!IsFinite(delta)) throw EditError(400, "the move must be 3 finite numbers");
-  return Queue([&](Pending& p) {
-    if (index >= objects_.Count()) throw EditError(404, "no object " + std::to_string(index));
-    if (int instance = objects_.InstanceOf(index); instance >= 0) {
-      SceneDocument::MovedInstance moved = document_.TranslatedInstance(index, delta);
-      document_.SetObject(index, std::move(moved.object));
-      p.placements[size_t(instance)] = moved.toWorld;
-      p.restart = true;
-      return;
-    }
-    SceneDocument::MovedObject moved = document_.TranslatedObject(index, delta);
-    if (!objects_.Fits(index, moved.loaded)) {
-      throw EditError(422, "object " + std::to_string(index) +
-                               " would change its shapes there (degenerate after the move)");
-    }
-    document_.SetObject(index, std::move(moved.object));
-    p.moves[index] = std::move(moved.loaded);
-    p.restart = true;
-  });
-}
-
-void LiveRender::SetExposure(float stops) {
-  if (!std::isfinite(stops) || std::fabs(stops) > 20.0f) {
-    throw EditError(400, "exposure must be a number of stops in [-20, 20]");
-  }
-  exposure_ = stops;
-  EncodeAgain();
-}
-
-void LiveRender::EncodeAgain() {
-  std::lock_guard<std::mutex> lock(frameMutex_);
-  if (!frame_ || !image_) return;
-  encoding_->image = image_;
-  encoding_->generation = frame_->generation;
-  encoding_->spp = frame_->spp;
-  encoding_->statsJson = frame_->statsJson;
-  encoding_->waiting = true;
-  frameReady_.notify_all();
-}
-
-// ---- The render thread ------------------------------------------------------------------------
-
-void LiveRender::RenderLoop() {
-  while (!stop_) {
-    try {
-      ApplyEdits();
-      if (spp_ >= targetSpp_) {
-        std::unique_lock<std::mutex> lock(wakeMutex_);
-        wake_.wait(lock, [&] { return stop_ || wakeCalls_; });
-        continue;
-      }
-      RenderPass();
-    } catch (const std::exception& e) {  // never let one edit end the preview
-      std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-  }
-}
-
-bool LiveRender::ApplyEdits() {
-  std::unique_ptr<Pending> p;
-  uint64_t generation;
+EditAnswer LiveRender::Queue(const std::function<void(Pending&)>& edit, ChangeFeed::Topic topic) {
+  EditAnswer answer;
   {
     std::lock_guard<std::mutex> lock(docMutex_);
-    std::lock_guard<std::mutex> wakeLock(wakeMutex_);
-    wakeCalls_ = false;
-    editsWaiting_ = false;
-    p = std::exchange(pending_, std::make_unique<Pending>());
-    generation = requestedGeneration_;
+    bool before = pending_->restart;
+    pending_->restart = false;
+    try {
+      edit(*pending_);
+    } catch (const SceneError& e) {
+      pending_->restart = before;
+      throw EditError(422, e.what());
+    } catch (...) {
+      pending_->restart = before;
+      throw;
+    }
+    answer.restarts = pending_->restart;
+    pending_->restart = pending_->restart || before;
+    if (answer.restarts) {
+      if (!editsWaiting_) pending_->firstReceived = LiveClock::now();
+      ++requestedGeneration_;
+    }
+    answer.generation = requestedGeneration_;
+    {
+      std::lock_guard<std::mutex> wakeLock(wakeMutex_);
+      editsWaiting_ = editsWaiting_ || answer.restarts;
+      wakeCalls_ = true;
+    }
   }
-  if (p->spp) targetSpp_ = *p->spp;
-  if (!p->restart) return false;
+  wake_.notify_all();
+  feed_.Bump(topic);
+  return answer;
+}
+
+EditAnswer LiveRender::QueueCamera(const Json& fields, bool replace, int choice) {
+  return Queue(
+      [&](Pending& p) {
+        p.camera = document_.EditCamera(fields, replace);
+        p.restart = true;
+        cameraChoice_ = choice;
+      },
+      ChangeFeed::kState);
+}
+
+EditAnswer LiveRender::EditCamera(const Json& fields) {
+  if (!fields.is_object()) throw EditError(400, "the camera must be a JSON object");
+  return QueueCamera(fields, false, -1);
+}
+
+EditAnswer LiveRender::ChooseCamera(size_t index) {
+  if (index >= cameras_.size()) {
+    throw EditError(404, "no camera " + std::to_string(index) + " (the scene offers " +
+                             std::to_string(cameras_.size()) + ")");
+  }
+  return QueueCamera(CameraDescJson(cameras_[index].camera), true, int(index));
+}
+
+EditAnswer LiveRender::FrameSelected() {
+  int object;
+  Json camera;
   {
-    std::unique_lock<std::shared_mutex> lock(sceneMutex_);
-    if (p->maxDepth) scene_.desc.render.maxDepth = *p->maxDepth;
-    if (p->options) options_ = *p->options;
-    ApplySceneEdits(*p);
-    if (p->options || p->maxDepth) session_->SetOptions(options_);
-    if (p->camera) {
-      camera_ = MakeCamera(*p->camera, width_, height_, scene_.desc.render.spp);
-      scene_.desc.camera = *p->camera;
-      session_->SetCamera(camera_);
-    }
-    session_->ResetFilm();
+    std::lock_guard<std::mutex> lock(docMutex_);
+    object = selectedObject_;
+    camera = document_.CameraJson();
   }
-  spp_ = 0;
-  generation_ = generation;
-  firstFrameOfGeneration_ = true;
-  editReceived_ = p->firstReceived;
-  generationStart_ = lastPassEnd_ = session_->Stats();
-  return true;
-}
-
-// Moves and materials, by the cheapest update that covers them: instance moves alone re-place
-// through the top level, any other move rebuilds the scene.
-void LiveRender::ApplySceneEdits(const Pending& p) {
-  auto t0 = Clock::now();
-  for (const auto& [index, toWorld] : p.placements) UpdateInstanceTransform(scene_, index, toWorld);
-  for (const auto& [index, moved] : p.moves) objects_.Place(index, moved, scene_.desc);
-  for (const auto& [index, material] : p.materials) scene_.desc.materials[index] = material;
-  if (!p.moves.empty()) {
-    scene_ = BuildScene(std::move(scene_.desc));
-    session_->SceneChanged();
-    ++sceneRebuilds_;
-  } else {
-    if (!p.placements.empty()) RebuildTopLevel(scene_);
-    if (!p.materials.empty()) BuildLightTable(scene_);  // after the top level: its bounds
-    if (!p.placements.empty()) {
-      session_->TopLevelChanged();
-      ++topLevelRebuilds_;
-    }
-    if (!p.materials.empty()) session_->MaterialsChanged();
-  }
-  if (!p.moves.empty() || !p.placements.empty()) lastRebuildMs_ = MsBetween(t0, Clock::now());
-}
-
-void LiveRender::RenderPass() {
-  double msPerSpp = 0.0;
-  RenderStats before = lastPassEnd_;
-  uint64_t passSamples = uint64_t(width_) * height_;
-  uint32_t lastCount = std::max<uint32_t>(1, lastPassSpp_);
-  if (lastPassMs_ > 0.0) msPerSpp = lastPassMs_ / lastCount;
-  uint32_t count = msPerSpp > 0.0 ? uint32_t(std::clamp(kPassTargetMs / msPerSpp, 1.0,
-                                                        double(kMaxSamplesPerPass)))
-                                  : 1u;
-  count = std::min(count, targetSpp_ - spp_);
-  uint64_t done;
+  if (object < 0) throw EditError(409, "nothing is selected to frame");
+  Aabb box;
   {
     std::shared_lock<std::shared_mutex> lock(sceneMutex_);
-    done = session_->RenderRange(spp_, spp_ + count);
+    box = ObjectBounds(scene_.desc, objects_.Shapes(size_t(object)));
   }
-  if (done < passSamples * count) return;  // an edit stopped it: the film starts over
-  spp_ += count;
-  RenderStats now = session_->Stats();
-  lastPassMs_ = now.renderMs - before.renderMs;
-  lastPassSpp_ = count;
-  std::string stats = StatsJson(now, lastPassMs_, count);
-  lastPassEnd_ = now;
-  Publish(stats);
+  if (!(box.lo.x <= box.hi.x)) throw EditError(409, "the selected object has no shapes to frame");
+  // The view direction kept; the bounds' sphere fits the narrower field of view, 10% spare.
+  auto read = [&](const char* key) {
+    const Json& v = camera[key];
+    return vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
+  };
+  vec3 position = read("position");
+  vec3 forward = glm::normalize(read("look_at") - position);
+  float fovY = glm::radians(camera.value("fov_y", 45.0f));
+  float aspect = float(width_) / float(std::max(1, height_));
+  float halfFov = std::min(0.5f * fovY, std::atan(std::tan(0.5f * fovY) * aspect));
+  vec3 center = 0.5f * (box.lo + box.hi);
+  float radius = std::max(1e-4f, 0.5f * glm::length(box.hi - box.lo));
+  float distance = 1.1f * radius / std::sin(halfFov);
+  Json fields = {{"position", DocumentVec3(center - forward * distance)},
+                 {"look_at", DocumentVec3(center)}};
+  return QueueCamera(fields, false, -1);
 }
 
-void LiveRender::Publish(const std::string& statsJson) {
-  auto now = Clock::now();
-  bool due = firstFrameOfGeneration_ || spp_ >= targetSpp_ ||
-             MsBetween(lastPublish_, now) >= 1000.0 / settings_.framesPerSecond;
-  if (!due) return;
-  auto image = std::make_shared<const FilmImage>(session_->Image());
-  lastPublish_ = now;
-  std::lock_guard<std::mutex> lock(frameMutex_);
-  encoding_->image = std::move(image);
-  encoding_->generation = generation_;
-  encoding_->spp = spp_;
-  encoding_->statsJson = statsJson;
-  encoding_->editReceived = firstFrameOfGeneration_ ? editReceived_ : Clock::time_point();
-  encoding_->waiting = true;
-  firstFrameOfGeneration_ = false;
-  frameReady_.notify_all();
+EditAnswer LiveRender::EditMaterial(size_t index, const Json& fields) {
+  if (!fields.is_object()) throw EditError(400, "the material must be a JSON object");
+  return Queue(
+      [&](Pending& p) {
+        if (index >= document_.MaterialCount()) {
+          throw EditError(404, "no material " + std::to_string(index) + " in the scene file");
+        }
+        p.materials[index] = document_.EditMaterial(index, fields);
+        p.restart = true;
+      },
+      ChangeFeed::kScene);
 }
 
-// ---- The encoder thread -----------------------------------------------------------------------
+EditAnswer LiveRender::MoveObject(size_t index, vec3 delta) {
+  if (!IsFinite(delta)) throw EditError(400, "the move must be 3 finite numbers");
+  return Queue(
+      [&](Pending& p) {
+        if (index >= objects_.Count()) throw EditError(404, "no object " + std::to_string(index));
+        if (int instance = objects_.InstanceOf(index); instance >= 0) {
+          SceneDocument::MovedInstance moved = document_.TranslatedInstance(index, delta);
+          document_.SetObject(index, std::move(moved.object));
+          p.placements[size_t(instance)] = moved.toWorld;
+          p.restart = true;
+          return;
+        }
+        SceneDocument::MovedObject moved = document_.TranslatedObject(index, delta);
+        if (!objects_.Fits(index, moved.loaded)) {
+          throw EditError(422, "object " + std::to_string(index) +
+                                   " would change its shapes there (degenerate after the move)");
+        }
+        document_.SetObject(index, std::move(moved.object));
+        p.moves[index] = std::move(moved.loaded);
+        p.restart = true;
+      },
+      ChangeFeed::kScene);
+}
 
-void LiveRender::EncodeLoop() {
-  uint64_t nextId = 1;
-  std::unique_lock<std::mutex> lock(frameMutex_);
-  while (!stop_) {
-    frameReady_.wait(lock, [&] { return stop_ || encoding_->waiting; });
-    if (stop_) break;
-    Encoding job = *encoding_;
-    encoding_->waiting = false;
-    lock.unlock();
-    auto frame = std::make_shared<PreviewFrame>();
-    frame->id = nextId++;
-    frame->generation = job.generation;
-    frame->spp = job.spp;
-    frame->statsJson = job.statsJson;
-    double denoiseMs = -1.0;
-    try {
-      job.image = Displayed(job.image, &denoiseMs);
-      FilmImage shown;
-      const FilmImage* tone = job.image.get();
-      if (!job.image->denoised.empty() && denoise_) {
-        shown.rgb = job.image->denoised;
-        tone = &shown;
+void LiveRender::Select(int object, int material) {
+  {
+    std::lock_guard<std::mutex> lock(docMutex_);
+    if (object >= int(objects_.Count())) throw EditError(404, "no object " + std::to_string(object));
+    selectedObject_ = object < 0 ? -1 : object;
+    selectedMaterial_ = object < 0 ? -1 : material;
+  }
+  feed_.Bump(ChangeFeed::kState);
+}
+
+void LiveRender::SetExposure(float stops) { EditDisplay(Json{{"exposure", stops}}); }
+
+void LiveRender::EditDisplay(const Json& fields) {
+  if (!fields.is_object()) throw EditError(400, "the display settings must be a JSON object");
+  DisplaySettings display = Display();
+  for (const auto& [key, value] : fields.items()) {
+    if (key == "exposure") {
+      float stops = value.is_number() ? value.get<float>() : NAN;
+      if (!std::isfinite(stops) || std::fabs(stops) > 20.0f) {
+        throw EditError(400, "exposure must be a number of stops in [-20, 20]", "exposure");
       }
-      frame->jpeg = EncodeJpeg(job.image->width, job.image->height, ToneMap(*tone, exposure_),
-                               settings_.jpegQuality);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());
+      display.exposure = stops;
+    } else if (key == "tone_mapping") {
+      if (!value.is_string() || !ParseToneMapping(value.get<std::string>(), &display.toneMapping)) {
+        throw EditError(400, "bad value for tone_mapping: " + value.dump() + " (expected clip|agx)",
+                        "tone_mapping");
+      }
+    } else {
+      throw EditError(400, "unknown display setting \"" + key +
+                               "\" (expected exposure or tone_mapping)");
     }
-    if (job.editReceived != Clock::time_point() || denoiseMs >= 0.0) {
-      Json stats = Json::parse(frame->statsJson);
-      if (job.editReceived != Clock::time_point())
-        stats["edit_to_frame_ms"] = MsBetween(job.editReceived, Clock::now());
-      if (denoiseMs >= 0.0) stats["denoise_ms"] = denoiseMs;
-      frame->statsJson = stats.dump();
-    }
-    lock.lock();
-    frame_ = std::move(frame);
-    image_ = job.image;
-    frameReady_.notify_all();
   }
-}
-
-
-std::shared_ptr<const FilmImage> LiveRender::Displayed(std::shared_ptr<const FilmImage> image,
-                                                       double* ms) {
-  if (!denoise_ || !denoiser_ || !image->denoised.empty()) return image;
-  auto denoised = std::make_shared<FilmImage>(*image);
-  denoiser_->Denoise(*denoised);
-  *ms = denoiser_->LastMs();
-  return denoised;
+  {
+    std::lock_guard<std::mutex> lock(docMutex_);
+    display_ = display;
+  }
+  EncodeAgain();
+  feed_.Bump(ChangeFeed::kState);
 }
 
 }  // namespace pt

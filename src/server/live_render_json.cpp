@@ -1,6 +1,11 @@
 // LiveRender's JSON: the flags edit, the statistics of each frame and the scene description
 // the page builds its controls from.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+
+#include "src/io/image_io.h"
+#include "src/io/scene_loader.h"
 
 #include "src/lights/light_bvh_build.h"
 #include "src/server/live_render.h"
@@ -38,12 +43,12 @@ T Choice(const Json& value, const char* key, std::initializer_list<std::pair<con
     names += names.empty() ? name : std::string("|") + name;
   }
   throw EditError(400, std::string("bad value for ") + key + ": " + value.dump() +
-                           " (expected " + names + ")");
+                           " (expected " + names + ")", key);
 }
 
 int64_t Integer(const Json& value, const char* key) {
   if (!value.is_number_integer()) {
-    throw EditError(400, std::string(key) + " must be an integer, not " + value.dump());
+    throw EditError(400, std::string(key) + " must be an integer, not " + value.dump(), key);
   }
   return value.get<int64_t>();
 }
@@ -61,76 +66,166 @@ StageTimes Minus(const StageTimes& a, const StageTimes& b) {
                     a.accumulate - b.accumulate};
 }
 
+std::string JoinNames(const Json& names) {
+  std::string all;
+  for (const Json& n : names) all += (all.empty() ? "" : ", ") + n.get<std::string>();
+  return all;
+}
+
+Json OptionsJson(const RenderOptions& o) {
+  return Json{{"compact", ToggleName(o.compact)},
+              {"sort", SortName(o.sort)},
+              {"integrator", IntegratorName(o.integrator)},
+              {"specialize", o.specialize},
+              {"light_sampler", LightSamplerName(o.lightSampler)}};
+}
+
+Json IndexOrNull(int index) { return index < 0 ? Json(nullptr) : Json(index); }
+
 uint64_t Rays(const RenderStats& s) { return s.cameraRays + s.extensionRays + s.shadowRays; }
 
 }  // namespace
 
-uint64_t LiveRender::EditOptions(const Json& fields) {
+EditAnswer LiveRender::EditOptions(const Json& fields) {
   if (!fields.is_object()) throw EditError(400, "the options must be a JSON object");
   std::optional<bool> denoise;
-  uint64_t generation = Queue([&](Pending& p) {
-    RenderOptions o = requestedOptions_;
-    std::optional<int64_t> maxDepth, spp;
-    for (const auto& [key, value] : fields.items()) {
-      if (key == "denoise") {
-        if (!value.is_boolean()) throw EditError(400, "denoise must be true or false");
-        if (!denoiser_) throw EditError(422, "this preview has no denoiser");
-        denoise = value.get<bool>();
-      } else if (key == "compact") {
-        o.compact = Choice<Toggle>(value, "compact",
-                                   {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
-      } else if (key == "sort") {
-        o.sort = Choice<SortMode>(value, "sort", {{"off", SortMode::kOff},
-                                                  {"material", SortMode::kMaterial},
-                                                  {"auto", SortMode::kAuto}});
-      } else if (key == "integrator") {
-        o.integrator = Choice<IntegratorMode>(value, "integrator", {{"mis", IntegratorMode::kMis},
-                                                                    {"bsdf", IntegratorMode::kBsdf},
-                                                                    {"nee", IntegratorMode::kNee}});
-      } else if (key == "specialize") {
-        if (!value.is_boolean()) throw EditError(400, "specialize must be true or false");
-        o.specialize = value.get<bool>();
-      } else if (key == "light_sampler") {
-        o.lightSampler = Choice<LightSampler>(value, "light_sampler",
-                                              {{"auto", LightSampler::kAuto},
-                                               {"bvh", LightSampler::kBvh},
-                                               {"power", LightSampler::kPower},
-                                               {"uniform", LightSampler::kUniform}});
-      } else if (key == "max_depth") {
-        maxDepth = Integer(value, "max_depth");
-      } else if (key == "spp") {
-        spp = Integer(value, "spp");
-      } else {
-        throw EditError(400, "unknown option \"" + key +
-                                 "\" (expected compact, sort, integrator, specialize, "
-                                 "light_sampler, max_depth, spp or denoise)");
-      }
+  EditAnswer answer = Queue(
+      [&](Pending& p) {
+        RenderOptions o = requestedOptions_;
+        std::optional<int64_t> maxDepth, spp;
+        for (const auto& [key, value] : fields.items()) {
+          if (key == "compact") {
+            o.compact = Choice<Toggle>(value, "compact", {{"on", Toggle::kOn},
+                                                          {"off", Toggle::kOff},
+                                                          {"auto", Toggle::kAuto}});
+          } else if (key == "sort") {
+            o.sort = Choice<SortMode>(value, "sort", {{"off", SortMode::kOff},
+                                                      {"material", SortMode::kMaterial},
+                                                      {"auto", SortMode::kAuto}});
+          } else if (key == "integrator") {
+            o.integrator = Choice<IntegratorMode>(value, "integrator",
+                                                  {{"mis", IntegratorMode::kMis},
+                                                   {"bsdf", IntegratorMode::kBsdf},
+                                                   {"nee", IntegratorMode::kNee}});
+          } else if (key == "specialize") {
+            if (!value.is_boolean()) throw EditError(400, "specialize must be true or false", key);
+            o.specialize = value.get<bool>();
+          } else if (key == "light_sampler") {
+            o.lightSampler = Choice<LightSampler>(value, "light_sampler",
+                                                  {{"auto", LightSampler::kAuto},
+                                                   {"bvh", LightSampler::kBvh},
+                                                   {"power", LightSampler::kPower},
+                                                   {"uniform", LightSampler::kUniform}});
+          } else if (key == "max_depth") {
+            maxDepth = Integer(value, "max_depth");
+          } else if (key == "spp") {
+            spp = Integer(value, "spp");
+          } else if (key == "denoise") {
+            if (!value.is_boolean()) throw EditError(400, "denoise must be true or false", key);
+            if (!denoiser_) throw EditError(422, "this preview has no denoiser", key);
+            denoise = value.get<bool>();
+          } else {
+            throw EditError(400, "unknown option \"" + key +
+                                     "\" (expected compact, sort, integrator, specialize, "
+                                     "light_sampler, max_depth, spp or denoise)");
+          }
+        }
+        // The loader's limits, checked before anything changes.
+        try {
+          if (maxDepth) document_.SetRenderSetting("max_depth", *maxDepth);
+        } catch (const SceneError& e) {
+          throw EditError(422, e.what(), "max_depth");
+        }
+        try {
+          if (spp) document_.SetRenderSetting("spp", *spp);
+        } catch (const SceneError& e) {
+          throw EditError(422, e.what(), "spp");
+        }
+        if (spp) p.spp = uint32_t(*spp);
+        if (maxDepth) p.maxDepth = int(*maxDepth);
+        // Anything but the target spp and denoising (display only) restarts the film.
+        if (fields.size() > (spp ? 1u : 0u) + (denoise ? 1u : 0u)) {
+          requestedOptions_ = o;
+          p.options = o;
+          p.restart = true;
+        }
+        // Here (all checked, under the document's lock): the state the feed announces has it.
+        if (denoise) denoise_ = *denoise;
+      },
+      ChangeFeed::kState);
+  if (denoise) EncodeAgain();  // the frame shown, denoised or not
+  return answer;
+}
+
+EditAnswer LiveRender::EditLighting(const Json& fields) {
+  if (!fields.is_object()) throw EditError(400, "the lighting must be a JSON object");
+  Json maps = ListMaps();
+  return Queue(
+      [&](Pending& p) {
+        SceneDocument::Lighting lighting = document_.CurrentLighting();
+        std::string map = lightingMap_;
+        for (const auto& [key, value] : fields.items()) {
+          if (key == "map") {
+            if (!value.is_string()) throw EditError(400, "map must be a name", key);
+            map = value.get<std::string>();
+          } else if (key == "strength" || key == "rotation") {
+            if (!value.is_number() || !std::isfinite(value.get<double>())) {
+              throw EditError(400, key + " must be a number", key);
+            }
+            float v = value.get<float>();
+            if (key == "strength" && !(v >= 0.0f)) throw EditError(422, "strength must be >= 0", key);
+            (key == "strength" ? lighting.strength : lighting.rotation) = v;
+          } else {
+            throw EditError(400, "unknown lighting setting \"" + key +
+                                     "\" (expected map, strength or rotation)");
+          }
+        }
+        if (map == "scene") {
+          lighting.kind = SceneDocument::Lighting::Kind::kScene;
+        } else if (map == "none") {
+          lighting.kind = SceneDocument::Lighting::Kind::kNone;
+        } else if (std::find(maps.begin(), maps.end(), map) != maps.end()) {
+          lighting.kind = SceneDocument::Lighting::Kind::kMap;
+          lighting.mapPath = settings_.environmentFolder + "/" + map;
+        } else {
+          throw EditError(404, "no map \"" + map + "\" (the maps offered: scene, none" +
+                                   (maps.empty() ? std::string() : ", " + JoinNames(maps)) + ")",
+                          "map");
+        }
+        try {
+          p.lighting = document_.EditLighting(lighting);
+        } catch (const SceneError& e) {
+          throw EditError(422, e.what(), fields.contains("map") ? "map" : "strength");
+        }
+        lightingMap_ = map;
+        p.restart = true;
+      },
+      ChangeFeed::kState);
+}
+
+// The equirectangular maps in the environment folder (not its subfolders), by name.
+Json LiveRender::ListMaps() const {
+  Json names = Json::array();
+  if (settings_.environmentFolder.empty()) return names;
+  std::error_code ec;
+  std::vector<std::string> found;
+  for (const auto& entry : std::filesystem::directory_iterator(settings_.environmentFolder, ec)) {
+    std::string ext = LowerExtension(entry.path().string());
+    if ((ext == ".exr" || ext == ".hdr" || ext == ".pfm") && entry.is_regular_file(ec)) {
+      found.push_back(entry.path().filename().string());
     }
-    // The loader's limits, checked before anything changes.
-    if (maxDepth) document_.SetRenderSetting("max_depth", *maxDepth);
-    if (spp) document_.SetRenderSetting("spp", *spp);
-    if (spp) p.spp = uint32_t(*spp);
-    if (maxDepth) p.maxDepth = int(*maxDepth);
-    // Anything but the target spp and denoising (display only) restarts the film.
-    if (fields.size() > (spp ? 1u : 0u) + (denoise ? 1u : 0u)) {
-      requestedOptions_ = o;
-      p.options = o;
-      p.restart = true;
-    }
-  });
-  if (denoise) {
-    denoise_ = *denoise;
-    EncodeAgain();
   }
-  return generation;
+  std::sort(found.begin(), found.end());
+  for (const std::string& name : found) names.push_back(name);
+  return names;
 }
 
 std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const {
   double seconds = (now.renderMs - generationStart_.renderMs) / 1e3;
-  double samples = double(spp_) * width_ * height_;
+  double samples = double(spp_.load()) * width_ * height_;
   double rays = double(Rays(now) - Rays(generationStart_));
   Json j;
-  j["spp"] = spp_;
+  j["spp"] = spp_.load();
   j["target_spp"] = targetSpp_;
   j["generation"] = generation_;
   j["width"] = width_;
@@ -160,13 +255,15 @@ std::string LiveRender::DescribeJson() const {
   j["height"] = height_;
   j["camera"] = document_.CameraJson();
   j["render"] = document_.RenderJson();
-  j["options"] = Json{{"compact", ToggleName(requestedOptions_.compact)},
-                      {"sort", SortName(requestedOptions_.sort)},
-                      {"integrator", IntegratorName(requestedOptions_.integrator)},
-                      {"specialize", requestedOptions_.specialize},
-                      {"light_sampler", LightSamplerName(requestedOptions_.lightSampler)},
-                      {"denoise", denoise_.load()},
-                      {"denoise_available", denoiser_ != nullptr}};
+  j["options"] = OptionsJson(requestedOptions_);
+  j["options"]["denoise"] = denoise_.load();
+  j["options"]["denoise_available"] = denoiser_ != nullptr;
+  Json cameras = Json::array();
+  for (size_t i = 0; i < cameras_.size(); ++i) {
+    cameras.push_back(Json{{"index", i}, {"name", cameras_[i].name}});
+  }
+  j["cameras"] = cameras;
+  j["maps"] = ListMaps();
   Json objects = Json::array();
   for (size_t i = 0; i < document_.ObjectCount(); ++i) {
     const Json& o = document_.ObjectJson(i);
@@ -190,6 +287,26 @@ std::string LiveRender::DescribeJson() const {
     materials.push_back(entry);
   }
   j["materials"] = materials;
+  return j.dump();
+}
+
+std::string LiveRender::StateJson() const {
+  std::lock_guard<std::mutex> lock(docMutex_);
+  Json j;
+  j["camera"] = document_.CameraJson();
+  j["camera_choice"] = IndexOrNull(cameraChoice_);
+  Json options = OptionsJson(requestedOptions_);
+  options["max_depth"] = document_.RenderJson()["max_depth"];
+  options["spp"] = document_.RenderJson()["spp"];
+  if (denoiser_) options["denoise"] = denoise_.load();
+  j["options"] = options;
+  j["display"] = Json{{"exposure", display_.exposure},
+                      {"tone_mapping", ToneMappingName(display_.toneMapping)}};
+  j["selection"] = Json{{"object", IndexOrNull(selectedObject_)},
+                        {"material", IndexOrNull(selectedMaterial_)}};
+  const SceneDocument::Lighting& lighting = document_.CurrentLighting();
+  j["lighting"] = Json{{"map", lightingMap_}, {"strength", lighting.strength},
+                       {"rotation", lighting.rotation}};
   return j.dump();
 }
 

@@ -1,5 +1,7 @@
 #include "src/server/scene_document.h"
 
+#include <charconv>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -45,23 +47,57 @@ SceneDocument::SceneDocument(const std::string& path, const RenderSettings& rend
 SceneDocument::SceneDocument(const std::string& text, const std::string& pathForMessages,
                              const std::string& baseDir, const RenderSettings& render)
     : path_(pathForMessages) {
-  LoadSceneFromString(text, path_, baseDir);  // the full check
+  // A bare file name's folder is empty: the working directory.
+  std::string base = baseDir.empty() ? "." : baseDir;
+  LoadSceneFromString(text, path_, base);  // the full check
   doc_ = ParseSceneJson(text, path_);
-  baseDir_ = fs::absolute(fs::path(baseDir)).lexically_normal().string();
-  Json renderJson = RenderSection(render);
-  doc_["render"] = renderJson;  // overrides applied, adaptive dropped
+  baseDir_ = fs::absolute(fs::path(base)).lexically_normal().string();
+  doc_["render"] = RenderSection(render);  // overrides applied, adaptive dropped
   if (!doc_.contains("materials")) doc_["materials"] = Json::object();
-  auto absolute = [&](Json& entry) {
-    if (!entry.is_object() || !entry.contains("file")) return;
-    fs::path file = entry["file"].get<std::string>();
-    if (file.is_relative()) entry["file"] = (fs::path(baseDir_) / file).lexically_normal().string();
+  MakePathsAbsolute();
+  sceneLighting_ = Json::object();
+  for (const char* key : {"background", "environment"}) {
+    if (doc_.contains(key)) sceneLighting_[key] = doc_[key];
+  }
+}
+
+// Relative paths (meshes, maps, a camera's file) made absolute, so Text() renders from any
+// folder.
+void SceneDocument::MakePathsAbsolute() {
+  auto absolute = [&](Json& entry, const char* key) {
+    if (!entry.is_object() || !entry.contains(key) || !entry[key].is_string()) return;
+    fs::path file = entry[key].get<std::string>();
+    if (file.is_relative()) entry[key] = (fs::path(baseDir_) / file).lexically_normal().string();
   };
   for (Json& object : doc_["objects"]) {
-    if (object.value("type", "") == "mesh") absolute(object);
+    if (object.value("type", "") == "mesh") absolute(object, "file");
   }
   if (doc_.contains("meshes")) {
-    for (Json& mesh : doc_["meshes"]) absolute(mesh);
+    for (Json& mesh : doc_["meshes"]) absolute(mesh, "file");
   }
+  if (doc_.contains("environment")) absolute(doc_["environment"], "file");
+  if (doc_.contains("camera")) absolute(doc_["camera"], "from_file");
+}
+
+SceneDocument SceneDocument::ForModel(const std::string& path, const SceneDesc& loaded,
+                                      const LoadOptions& options) {
+  SceneDocument d;
+  d.path_ = path;
+  fs::path file = fs::absolute(fs::path(path)).lexically_normal();
+  d.baseDir_ = file.parent_path().string();
+  Json mesh = {{"type", "mesh"}, {"file", file.string()}};
+  if (!options.animation.empty()) mesh["animation"] = options.animation;
+  if (options.time) mesh["time"] = *options.time;
+  if (!options.variant.empty()) mesh["variant"] = options.variant;
+  d.doc_ = Json::object();
+  d.doc_["format"] = 1;
+  d.doc_["render"] = RenderSection(loaded.render);
+  d.doc_["camera"] = CameraDescJson(loaded.camera);
+  d.doc_["materials"] = Json::object();
+  d.doc_["objects"] = Json::array({mesh});
+  d.sceneLighting_ = Json::object();
+  d.AdoptLighting(loaded);  // the loader's default environment, or --env's map
+  return d;
 }
 
 std::string SceneDocument::MaterialName(size_t index) const {
@@ -88,13 +124,19 @@ SceneDesc SceneDocument::LoadObject(size_t index) const {
   return LoadWith(CameraJson(), doc_["materials"], Json::array({ObjectJson(index)}));
 }
 
-CameraDesc SceneDocument::EditCamera(const Json& fields) {
+CameraDesc SceneDocument::EditCamera(const Json& fields, bool replace) {
   if (!fields.is_object()) throw SceneError(path_, "camera", "expected an object");
-  Json camera = CameraJson();
+  Json camera = replace ? Json::object() : CameraJson();
   for (const auto& [key, value] : fields.items()) camera[key] = value;
   CameraDesc loaded = LoadWith(camera, doc_["materials"], Json::array()).camera;
   doc_["camera"] = camera;
   return loaded;
+}
+
+void SceneDocument::ResolveCamera(const CameraDesc& resolved) {
+  const Json& camera = CameraJson();
+  if (camera.is_object() && camera.contains("position") && camera.contains("look_at")) return;
+  doc_["camera"] = CameraDescJson(resolved);
 }
 
 Material SceneDocument::EditMaterial(size_t index, const Json& fields) {
@@ -161,6 +203,26 @@ void SceneDocument::SetRenderSetting(const std::string& key, int64_t value) {
 }
 
 std::string SceneDocument::Text() const { return doc_.dump(2) + "\n"; }
+
+double DocumentFloat(float v) {
+  char text[32];
+  auto end = std::to_chars(text, text + sizeof(text), v).ptr;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
+
+Json DocumentVec3(vec3 v) {
+  return Json::array({DocumentFloat(v.x), DocumentFloat(v.y), DocumentFloat(v.z)});
+}
+
+Json CameraDescJson(const CameraDesc& c) {
+  Json camera = {{"position", DocumentVec3(c.position)}, {"look_at", DocumentVec3(c.lookAt)},
+                 {"up", DocumentVec3(c.up)}, {"fov_y", DocumentFloat(c.fovY)}};
+  if (c.apertureRadius > 0.0f) {
+    camera["aperture_radius"] = DocumentFloat(c.apertureRadius);
+    camera["focus_distance"] = DocumentFloat(c.focusDistance);
+  }
+  return camera;
+}
 
 Json TranslatedTransform(const Json* transform, vec3 delta) {
   Json t = transform ? *transform : Json::object();

@@ -4,10 +4,12 @@
 // made of it; so the preview renders what the CLI renders from Text() (bit for bit on the CPU).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "src/io/scene_json.h"
+#include "src/io/scene_loader.h"
 #include "src/scene/scene.h"
 
 namespace pt {
@@ -23,6 +25,12 @@ class SceneDocument {
   // pathForMessages names it in errors, baseDir is where its relative paths start.
   SceneDocument(const std::string& text, const std::string& pathForMessages,
                 const std::string& baseDir, const RenderSettings& render);
+  // A model file (.gltf, .glb, .obj) as the JSON scene that includes it: one `mesh` object of
+  // the file (absolute path; with the pose and variant the load used), the camera and the
+  // lighting the loader gave `loaded` (its default environment, or --env's map), `loaded`'s
+  // render settings. Not loaded again here: `loaded` is what LoadScene made of the file.
+  static SceneDocument ForModel(const std::string& path, const SceneDesc& loaded,
+                                const LoadOptions& options);
 
   const std::string& Path() const { return path_; }
   size_t ObjectCount() const { return doc_["objects"].size(); }
@@ -40,8 +48,12 @@ class SceneDocument {
 
   // Edits: each is checked by the loader and applied only when valid; otherwise it throws
   // SceneError naming the field, and the document is unchanged.
-  // Merges `fields` into the camera; returns the camera the loader makes of it.
-  CameraDesc EditCamera(const Json& fields);
+  // Merges `fields` into the camera (replace: `fields` is the whole camera); returns the
+  // camera the loader makes of it.
+  CameraDesc EditCamera(const Json& fields, bool replace = false);
+  // A camera the file does not state as position and look_at (from a glTF file, or framed
+  // automatically) becomes those of `resolved` (the camera as built), so edits merge into it.
+  void ResolveCamera(const CameraDesc& resolved);
   // Merges `fields` into a material (a different "type" replaces it whole); returns it loaded.
   Material EditMaterial(size_t index, const Json& fields);
   // An object moved by `delta` (composed into its transform) and what the loader makes of it;
@@ -65,16 +77,49 @@ class SceneDocument {
   // render.max_depth or render.spp, within the loader's limits.
   void SetRenderSetting(const std::string& key, int64_t value);
 
+  // The lighting at infinity (src/server/scene_document_env.cpp): the scene's own
+  // (`background` or `environment`, as the file had it), none, or an equirectangular map
+  // file; scaled by `strength` and turned by `rotation` degrees about +Y. Checked by the
+  // loader (the map is read); returns what it made of it (environment, background and the
+  // sky's sun among the directional lights).
+  struct Lighting {
+    enum class Kind { kScene, kNone, kMap } kind = Kind::kScene;
+    std::string mapPath;  // kMap: an absolute path
+    float strength = 1.0f;
+    float rotation = 0.0f;
+  };
+  SceneDesc EditLighting(const Lighting& lighting);
+  const Lighting& CurrentLighting() const { return lighting_; }
+  // The lighting at infinity of `loaded` (the scene as the render loaded it, after --env,
+  // --env none and --env-strength) becomes the document's, and "the scene's own" lighting.
+  void AdoptLighting(const SceneDesc& loaded);
+
   // The edited scene as a JSON file.
   std::string Text() const;
 
+  // The folder relative paths of the scene start from (absolute).
+  const std::string& BaseDir() const { return baseDir_; }
+
  private:
+  SceneDocument() = default;
+  void MakePathsAbsolute();
+  Json LightingJson(const Lighting& lighting) const;
   // A scene of the document's render, camera and materials and the given objects, loaded.
   SceneDesc LoadWith(const Json& camera, const Json& materials, const Json& objects) const;
 
   std::string path_, baseDir_;
   Json doc_;
+  Json sceneLighting_;  // the file's "background" and "environment" entries, as read
+  Lighting lighting_;
 };
+
+// A float as the double of its shortest decimal (3.9f as 3.9, not 3.9000000953674316): the
+// loader reads it back as the same float.
+double DocumentFloat(float v);
+Json DocumentVec3(vec3 v);
+// A camera as the scene format states it (position, look_at, up, fov_y, the lens when it has
+// one): the loader makes the same camera of it.
+Json CameraDescJson(const CameraDesc& camera);
 
 // `transform` (absent: identity) moved by delta: the translation of a `matrix` (entries 3, 7
 // and 11), else `translate` of the scale-rotate-translate form, which applies last.

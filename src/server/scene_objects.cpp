@@ -55,6 +55,19 @@ ObjectShapes InstanceShapes(const SceneDesc& desc, const ObjectShapes& next) {
 }  // namespace
 
 SceneObjects::SceneObjects(const SceneDocument& document, const SceneDesc& desc) {
+  // One object that is no instance made every shape (a model file's document): not loaded
+  // again to learn what the scene already says.
+  if (document.ObjectCount() == 1 && document.ObjectJson(0).value("type", "") != "instance") {
+    ObjectShapes s;
+    s.triangleCount = uint32_t(desc.triangles.size());
+    s.quadCount = uint32_t(desc.quads.size());
+    s.sphereCount = uint32_t(desc.spheres.size());
+    s.meshCount = uint32_t(desc.meshes.size());
+    s.instanceCount = uint32_t(desc.instances.size());
+    shapes_.push_back(s);
+    instanceOwner_.assign(s.instanceCount, 0);
+    return;
+  }
   ObjectShapes next;
   for (size_t i = 0; i < document.ObjectCount(); ++i) {
     ObjectShapes s;
@@ -131,6 +144,50 @@ void SceneObjects::Place(size_t index, const SceneDesc& moved, SceneDesc& desc) 
     placed.mesh += s.firstMesh;
     desc.instances[s.firstInstance + i] = placed;
   }
+}
+
+Aabb ObjectBounds(const SceneDesc& desc, const ObjectShapes& s) {
+  Aabb box;
+  auto grow = [&](vec3 p) {
+    box.lo = glm::min(box.lo, p);
+    box.hi = glm::max(box.hi, p);
+  };
+  if (s.isInstance || s.instanceCount > 0) {  // placed meshes: their corners moved
+    for (uint32_t i = s.firstInstance; i < s.firstInstance + s.instanceCount; ++i) {
+      const InstanceDesc& inst = desc.instances.at(i);
+      const MeshDesc& mesh = desc.meshes.at(inst.mesh);
+      for (uint32_t t = mesh.firstTriangle; t < mesh.firstTriangle + mesh.triangleCount; ++t) {
+        for (vec3 p : {desc.triangles[t].p0, desc.triangles[t].p1, desc.triangles[t].p2}) {
+          grow(vec3(inst.toWorld * glm::dvec4(glm::dvec3(p), 1.0)));
+        }
+      }
+    }
+    if (s.isInstance) return box;
+  }
+  // A flat object's own triangles (those of its meshes are in object space: placed above).
+  auto inMesh = [&](uint32_t t) {
+    for (uint32_t m = s.firstMesh; m < s.firstMesh + s.meshCount; ++m) {
+      const MeshDesc& mesh = desc.meshes.at(m);
+      if (t >= mesh.firstTriangle && t < mesh.firstTriangle + mesh.triangleCount) return true;
+    }
+    return false;
+  };
+  for (uint32_t t = s.firstTriangle; t < s.firstTriangle + s.triangleCount; ++t) {
+    if (inMesh(t)) continue;
+    for (vec3 p : {desc.triangles[t].p0, desc.triangles[t].p1, desc.triangles[t].p2}) grow(p);
+  }
+  for (uint32_t q = s.firstQuad; q < s.firstQuad + s.quadCount; ++q) {
+    const Quad& quad = desc.quads[q];
+    for (vec3 p : {quad.origin, quad.origin + quad.u, quad.origin + quad.v,
+                   quad.origin + quad.u + quad.v}) {
+      grow(p);
+    }
+  }
+  for (uint32_t i = s.firstSphere; i < s.firstSphere + s.sphereCount; ++i) {
+    grow(desc.spheres[i].center - vec3(desc.spheres[i].radius));
+    grow(desc.spheres[i].center + vec3(desc.spheres[i].radius));
+  }
+  return box;
 }
 
 PickResult PickPixel(const Scene& scene, const Camera& camera, int width, int height, float x,

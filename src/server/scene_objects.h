@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "src/geometry/aabb.h"
 #include "src/scene/scene.h"
 
 namespace pt {
@@ -54,6 +55,10 @@ class SceneObjects {
   std::vector<ObjectShapes> shapes_;
   std::vector<int> instanceOwner_;  // the object of each SceneDesc::instances entry
 };
+
+// World-space bounds of one object's shapes (an instance's: its mesh placed); empty (lo > hi)
+// when it has none.
+Aabb ObjectBounds(const SceneDesc& desc, const ObjectShapes& shapes);
 
 // What the centre of pixel (x, y) sees: a ray cast on the host through the scene's BVH with
 // the renderer's own traversal (a pinhole camera: the lens centre).
