@@ -110,21 +110,25 @@ export PT_FUZZ_BASE_DIR="$BASE"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 SEEDS=("$ROOT/tests/malformed" "$ROOT/scenes")
-FINDINGS=0
+# One process per seed (a finding names its seed), $JOBS at a time; the log keeps the output
+# of the seeds that failed.
 : > "$OUT/replay.log"
-while IFS= read -r -d '' seed; do
-  if ! "$OUT/scene_loader_fuzz" -timeout=60 -rss_limit_mb=2560 "$seed" >> "$OUT/replay.log" 2>&1; then
-    echo "run_fuzz: FINDING on seed ${seed#$ROOT/}" >&2
-    FINDINGS=$((FINDINGS + 1))
-  fi
-done < <(find "${SEEDS[@]}" -type f -print0 | sort -z)
+: > "$OUT/replay_failed.txt"
+export FUZZ_BIN="$OUT/scene_loader_fuzz" REPLAY_LOG="$OUT/replay.log" REPLAY_FAILED="$OUT/replay_failed.txt"
+find "${SEEDS[@]}" -type f -print0 | sort -z | xargs -0 -n 1 -P "$JOBS" sh -c '
+  if ! out=$("$FUZZ_BIN" -timeout=60 -rss_limit_mb=2560 "$1" 2>&1); then
+    printf "%s\n" "$1" >> "$REPLAY_FAILED"
+    printf "== %s\n%s\n" "$1" "$out" >> "$REPLAY_LOG"
+  fi' replay
+FINDINGS=$(wc -l < "$OUT/replay_failed.txt")
+while IFS= read -r seed; do echo "run_fuzz: FINDING on seed ${seed#$ROOT/}" >&2; done < "$OUT/replay_failed.txt"
 echo "run_fuzz: replayed $(find "${SEEDS[@]}" -type f | wc -l) seeds, $FINDINGS findings (log: $OUT/replay.log)"
 
 # ---- Fuzz ----
 echo "run_fuzz: fuzzing for $SECONDS_TO_RUN s, seeds: tests/malformed, scenes"
 set +e
 "$OUT/scene_loader_fuzz" "$OUT/corpus" "${SEEDS[@]}" \
-  -max_total_time="$SECONDS_TO_RUN" -timeout=20 -rss_limit_mb=2560 -max_len=16384 \
+  -max_total_time="$SECONDS_TO_RUN" -timeout=60 -rss_limit_mb=2560 -max_len=16384 \
   -dict="$DICT" -artifact_prefix="$OUT/artifacts/" -print_final_stats=1 \
   > "$OUT/fuzz.log" 2>&1
 STATUS=$?

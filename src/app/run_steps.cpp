@@ -36,17 +36,21 @@ void Warn(const std::string& warning) {
   std::fprintf(stderr, "pathtracer: warning: %s\n", warning.c_str());
 }
 
+LoadOptions CliLoadOptions(const CliOptions& cli) {
+  LoadOptions load;
+  load.camera = cli.camera;
+  load.animation = cli.animation;
+  load.time = cli.time;
+  load.variant = cli.variant;
+  load.environmentGiven = !cli.envPath.empty();
+  return load;
+}
+
 SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs) {
   AppClock::time_point start = AppClock::now();
   SceneDesc desc;
   try {
-    LoadOptions load;
-    load.camera = cli.camera;
-    load.animation = cli.animation;
-    load.time = cli.time;
-    load.variant = cli.variant;
-    load.environmentGiven = !cli.envPath.empty();
-    desc = LoadScene(cli.scenePath, load);
+    desc = LoadScene(cli.scenePath, CliLoadOptions(cli));
     if (cli.envPath == kEnvNone) RemoveEnvironment(&desc);
     else if (!cli.envPath.empty()) ReplaceEnvironmentMap(cli.envPath, &desc);
     if (cli.envStrength) desc.environment.strength = *cli.envStrength;

@@ -12,6 +12,7 @@
 #include "src/app/render_job.h"
 #include "src/app/run.h"
 #include "src/app/stats_json.h"
+#include "src/io/scene_loader.h"
 
 namespace pt {
 
@@ -20,6 +21,9 @@ double MsSince(AppClock::time_point start);
 
 void Warn(const std::string& warning);
 
+// What the command line asks of the scene's loading (--camera, --animation, --time, --variant,
+// whether --env is given).
+LoadOptions CliLoadOptions(const CliOptions& cli);
 SceneDesc LoadAndOverride(const CliOptions& cli, double* loadMs);
 // The BVH layout and builder --bvh and --bvh-build ask for (auto: wide). With a started device,
 // the linear BVH (--bvh-build gpu or auto) is built on it: GPU localRank mod the count.

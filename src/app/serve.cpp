@@ -26,22 +26,12 @@ bool IsLoopback(const std::string& address) {
   return address == "127.0.0.1" || address == "::1" || address == "localhost";
 }
 
-LoadOptions ServeLoadOptions(const CliOptions& cli) {
-  LoadOptions load;
-  load.camera = cli.camera;
-  load.animation = cli.animation;
-  load.time = cli.time;
-  load.variant = cli.variant;
-  load.environmentGiven = !cli.envPath.empty();
-  return load;
-}
-
 // The document the page edits: the JSON scene file, or for a model file the JSON scene that
 // includes it (its camera and lighting as the load gave them). `loaded` is the scene as built.
 SceneDocument LoadDocument(const CliOptions& cli, const SceneDesc& loaded) {
   try {
     if (IsModelFile(cli.scenePath)) {
-      return SceneDocument::ForModel(cli.scenePath, loaded, ServeLoadOptions(cli));
+      return SceneDocument::ForModel(cli.scenePath, loaded, CliLoadOptions(cli));
     }
     SceneDocument document(cli.scenePath, loaded.render);
     // --env, --env none, --env-strength: the document states the lighting rendered.
@@ -65,7 +55,7 @@ std::vector<NamedCamera> FileCameras(const CliOptions& cli, const SceneDocument&
   if (ext != ".gltf" && ext != ".glb") return {};
   std::vector<NamedCamera> cameras;
   try {
-    GltfSceneContents contents = ReadGltfSceneParts(file, AnimationChoice(ServeLoadOptions(cli), nullptr));
+    GltfSceneContents contents = ReadGltfSceneParts(file, AnimationChoice(CliLoadOptions(cli), nullptr));
     for (const GltfCamera& c : contents.cameras) {
       if (!c.perspective) continue;
       std::string name = "camera " + std::to_string(c.index);

@@ -319,7 +319,10 @@ def lowered_spp_and_rejected_value(dt, out):
     wait_for(lambda: dt.eval("preview.spp") >= 4, "a few spp")
     set_value(dt, "f-spp", 2)
     message = wait_for(lambda: (t := text_of(dt, "s-state")) and "ends at" in t and t, "the stop message")
-    ended = dt.eval("preview.spp")
+    # The message comes with the state; the frame at that count may still be on its way (a slow
+    # encode under the sanitizers): wait for it, then no frame may change the count.
+    ended = int(re.search(r"ends at (\d+) spp", message).group(1))
+    wait_for(lambda: dt.eval("preview.spp") == ended, "the frame at the count the message names")
     time.sleep(1.0)
     assert dt.eval("preview.spp") == ended, "frames went on after the target was lowered"
     assert "(stopped)" in text_of(dt, "status"), text_of(dt, "status")
