@@ -324,8 +324,8 @@ struct WideNodeFrame {
   // ParallelSlotKeep's cuts lie half-way between two, so q * adj + near is at most -kStep / 2
   // for a near plane that admits the ray and at least +kStep / 2 for one that does not (and the
   // far plane the other way round): the slot loop's max and min then cull exactly the slots
-  // ParallelSlotKeep culls. (That mask cost the GPU's walk 17% on the Cornell box, a scene
-  // without a parallel ray: registers and code in the hot loop; this costs one branch a node.)
+  // ParallelSlotKeep culls. (On the GPU this alone did not win back the cost the parallel-axis
+  // code had on rays without a parallel axis; the split walk of traverse_wide.h did.)
   PT_HDI_HOT static WideNodeFrame MakeExact(const WideNodeWords& n, const WideRay& r) {
     WideNodeFrame f = Make(n, r);
     if (r.parallel != 0) f.StepParallelAxes(n, r);
