@@ -85,7 +85,14 @@ def main():
     ap.add_argument("pathtracer_args", nargs="*", help="more pathtracer options after --")
     args = ap.parse_args()
     folders = args.folder or ["../shared/assets/khronos", "../shared/assets/khronos-ext"]
-    models = [m for folder in folders for m in pick_models(folder)] + args.extra
+    models, seen = [], set()
+    for folder in folders:  # a model already picked from an earlier folder is not repeated
+        for m in pick_models(folder):
+            name = os.path.relpath(m, folder).split(os.sep)[0]
+            if name not in seen:
+                seen.add(name)
+                models.append(m)
+    models += args.extra
     if not models:
         sys.exit(f"contact_sheet: no .glb or .gltf under {', '.join(folders)}")
     s, cols = args.size, min(args.columns, len(models))

@@ -247,27 +247,24 @@ class GltfWalker {
     if (needs.colors) colors = Attribute(p, "COLOR_0", n, ReadColors);
     if (deform_) Deform(p, positions, normals, tangents);
     std::vector<uint32_t> tri = TriangleIndices(model_, p, n);
-    for (size_t t = 0; t + 2 < tri.size(); t += 3) {
-      uint32_t idx[3] = {tri[t], tri[t + 1], tri[t + 2]};
-      vec3 pos[3], nor[3];
-      vec2 uv[2][3];
-      vec4 tan[3], col[3];
-      VertexAttributes a;
+    VertexPresence has;
+    has.normals = !normals.empty();
+    has.uvs = !uvs[0].empty();
+    has.uvs1 = !uvs[1].empty();
+    has.tangents = !tangents.empty();
+    has.colors = !colors.empty();
+    // A big primitive's triangles are transformed on every core (same result as in order).
+    sink_.AddBatch(tri.size() / 3, has, material, [&](size_t t, TriangleVertices& v) {
       for (int k = 0; k < 3; ++k) {
-        pos[k] = positions[idx[k]];
-        if (!normals.empty()) nor[k] = normals[idx[k]];
-        for (int set = 0; set < 2; ++set)
-          if (!uvs[set].empty()) uv[set][k] = uvs[set][idx[k]];
-        if (!tangents.empty()) tan[k] = tangents[idx[k]];
-        if (!colors.empty()) col[k] = colors[idx[k]];
+        uint32_t i = tri[3 * t + k];
+        v.p[k] = positions[i];
+        if (has.normals) v.normals[k] = normals[i];
+        if (has.uvs) v.uvs[k] = uvs[0][i];
+        if (has.uvs1) v.uvs1[k] = uvs[1][i];
+        if (has.tangents) v.tangents[k] = tangents[i];
+        if (has.colors) v.colors[k] = colors[i];
       }
-      if (!normals.empty()) a.normals = nor;
-      if (!uvs[0].empty()) a.uvs = uv[0];
-      if (!uvs[1].empty()) a.uvs1 = uv[1];
-      if (!tangents.empty()) a.tangents = tan;
-      if (!colors.empty()) a.colors = col;
-      sink_.Add(pos, a, material);
-    }
+    });
   }
 
   void Deform(const tinygltf::Primitive& p, std::vector<vec3>& positions,

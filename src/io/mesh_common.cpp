@@ -1,9 +1,13 @@
 #include "src/io/mesh_common.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 
+#include "src/core/parallel_ranges.h"
 #include "src/materials/texture.h"
 #include "src/materials/texture_pyramid.h"
 #include "src/scene/instances.h"
@@ -98,9 +102,20 @@ TriangleUvs FiniteUvs(const vec2* uvs) {
   return TriangleUvs{uv[0], uv[1], uv[2]};
 }
 
-}  // namespace
+// Makes room for `count` more triangles in an optional per-triangle array: backfilled with
+// `fill` when the batch brings the data (AppendOptional's rule), else grown with `fill` once the
+// array exists.
+template <typename T>
+void GrowOptional(std::vector<T>& all, size_t base, size_t count, bool has, T fill = T{}) {
+  if (!has && all.empty()) return;
+  all.resize(base, fill);
+  all.resize(base + count, fill);
+}
 
-namespace {
+const TriangleColors kWhiteColors{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
+
+// Primitives of fewer triangles per thread stay on one thread.
+constexpr size_t kMinBatchPerThread = 1 << 14;
 
 // Vertices 1 and 2 of an optional per-vertex array swapped into `out` (null stays null).
 template <typename T>
@@ -131,14 +146,23 @@ bool MeshSink::Add(const vec3 p[3], const VertexAttributes& a, uint32_t material
   return AddInOrder(q, swapped, material);
 }
 
-bool MeshSink::AddInOrder(const vec3 p[3], const VertexAttributes& a, uint32_t material) {
+struct MeshSink::WorldTriangle {
+  Triangle positions;
+  TriangleNormals normals;  // zero vectors: shading falls back to the geometric normal
+  TriangleUvs uvs, uvs1;
+  TriangleTangents tangents;
+  TriangleColors colors;
+};
+
+bool MeshSink::ToWorld(const vec3 p[3], Triangle& out) const {
   vec3 w[3];
   for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
-  if (IsDegenerateTriangle(w[0], w[1], w[2])) {
-    scene_.skippedDegenerateTriangles++;
-    return false;
-  }
-  TriangleNormals tn;  // zero vectors: shading falls back to the geometric normal
+  if (IsDegenerateTriangle(w[0], w[1], w[2])) return false;
+  out = Triangle{w[0], w[1], w[2]};
+  return true;
+}
+
+void MeshSink::Convert(const VertexAttributes& a, WorldTriangle& out) const {
   if (a.normals) {
     vec3 n[3];
     bool valid = true;
@@ -148,36 +172,114 @@ bool MeshSink::AddInOrder(const vec3 p[3], const VertexAttributes& a, uint32_t m
       valid = valid && len > 0.0 && std::isfinite(len);
       n[i] = valid ? vec3(d / len) : vec3(0.0f);
     }
-    if (valid) tn = TriangleNormals{n[0], n[1], n[2]};
+    if (valid) out.normals = TriangleNormals{n[0], n[1], n[2]};
   }
-  size_t index = scene_.triangles.size();
-  TriangleUvs uv0, uv1;
-  if (a.uvs) uv0 = FiniteUvs(a.uvs);
-  if (a.uvs1) uv1 = FiniteUvs(a.uvs1);
-  AppendOptional(scene_.triangleUvs, index, a.uvs ? &uv0 : nullptr);
-  AppendOptional(scene_.triangleUvs1, index, a.uvs1 ? &uv1 : nullptr);
-  TriangleTangents tt;
+  if (a.uvs) out.uvs = FiniteUvs(a.uvs);
+  if (a.uvs1) out.uvs1 = FiniteUvs(a.uvs1);
   if (a.tangents) {
     // Tangents lie in the surface: they map as directions; a mirroring transform flips the
     // bitangent's handedness relative to the transformed normal.
     double handedness = glm::determinant(glm::dmat3(toWorld_)) < 0.0 ? -1.0 : 1.0;
-    vec4* out[3] = {&tt.t0, &tt.t1, &tt.t2};
+    vec4* t[3] = {&out.tangents.t0, &out.tangents.t1, &out.tangents.t2};
     for (int i = 0; i < 3; ++i) {
       glm::dvec3 d = glm::dmat3(toWorld_) * glm::dvec3(vec3(a.tangents[i]));
       double len = glm::length(d);
-      vec3 t = len > 0.0 && std::isfinite(len) ? vec3(d / len) : vec3(0.0f);
-      *out[i] = vec4(t, float(handedness) * (a.tangents[i].w < 0.0f ? -1.0f : 1.0f));
+      vec3 dir = len > 0.0 && std::isfinite(len) ? vec3(d / len) : vec3(0.0f);
+      *t[i] = vec4(dir, float(handedness) * (a.tangents[i].w < 0.0f ? -1.0f : 1.0f));
     }
   }
-  AppendOptional(scene_.triangleTangents, index, a.tangents ? &tt : nullptr);
-  TriangleColors tc;
-  if (a.colors) tc = TriangleColors{a.colors[0], a.colors[1], a.colors[2]};
-  const TriangleColors white{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
-  AppendOptional(scene_.triangleColors, index, a.colors ? &tc : nullptr, white);
-  scene_.triangles.push_back(Triangle{w[0], w[1], w[2]});
-  scene_.triangleNormals.push_back(tn);
+  if (a.colors) out.colors = TriangleColors{a.colors[0], a.colors[1], a.colors[2]};
+}
+
+bool MeshSink::AddInOrder(const vec3 p[3], const VertexAttributes& a, uint32_t material) {
+  WorldTriangle w;
+  if (!ToWorld(p, w.positions)) {
+    scene_.skippedDegenerateTriangles++;
+    return false;
+  }
+  Convert(a, w);
+  size_t index = scene_.triangles.size();
+  AppendOptional(scene_.triangleUvs, index, a.uvs ? &w.uvs : nullptr);
+  AppendOptional(scene_.triangleUvs1, index, a.uvs1 ? &w.uvs1 : nullptr);
+  AppendOptional(scene_.triangleTangents, index, a.tangents ? &w.tangents : nullptr);
+  AppendOptional(scene_.triangleColors, index, a.colors ? &w.colors : nullptr, kWhiteColors);
+  scene_.triangles.push_back(w.positions);
+  scene_.triangleNormals.push_back(w.normals);
   scene_.triangleMaterials.push_back(HasOverride() ? Override() : material);
   return true;
+}
+
+VertexAttributes MeshSink::Fetch(size_t t, const VertexPresence& has,
+                                 const std::function<void(size_t, TriangleVertices&)>& fetch,
+                                 TriangleVertices& v) const {
+  fetch(t, v);
+  if (mirrored_) {  // as Add: vertices 1 and 2 trade places with their attributes
+    std::swap(v.p[1], v.p[2]);
+    std::swap(v.normals[1], v.normals[2]);
+    std::swap(v.uvs[1], v.uvs[2]);
+    std::swap(v.uvs1[1], v.uvs1[2]);
+    std::swap(v.tangents[1], v.tangents[2]);
+    std::swap(v.colors[1], v.colors[2]);
+  }
+  VertexAttributes a;
+  if (has.normals) a.normals = v.normals;
+  if (has.uvs) a.uvs = v.uvs;
+  if (has.uvs1) a.uvs1 = v.uvs1;
+  if (has.tangents) a.tangents = v.tangents;
+  if (has.colors) a.colors = v.colors;
+  return a;
+}
+
+void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t material,
+                        const std::function<void(size_t, TriangleVertices&)>& fetch) {
+  // Fixed ranges: the first pass counts each range's kept triangles, the second writes them
+  // from the range's first slot, so the order is Add's whatever the thread count.
+  size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  size_t ranges = std::clamp<size_t>(count / kMinBatchPerThread, 1, cores);
+  auto first = [&](size_t r) { return count * r / ranges; };
+  std::vector<uint8_t> keep(count);
+  std::vector<size_t> kept(ranges + 1, 0);
+  ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
+    TriangleVertices v;
+    Triangle world;
+    for (size_t r = lo; r < hi; ++r) {
+      for (size_t t = first(r); t < first(r + 1); ++t) {
+        Fetch(t, has, fetch, v);
+        keep[t] = ToWorld(v.p, world) ? 1 : 0;
+        kept[r + 1] += keep[t];
+      }
+    }
+  });
+  for (size_t r = 0; r < ranges; ++r) kept[r + 1] += kept[r];
+  size_t base = scene_.triangles.size(), total = kept[ranges];
+  scene_.skippedDegenerateTriangles += int(count - total);
+  scene_.triangles.resize(base + total);
+  scene_.triangleNormals.resize(base + total);
+  scene_.triangleMaterials.resize(base + total, HasOverride() ? Override() : material);
+  GrowOptional(scene_.triangleUvs, base, total, has.uvs);
+  GrowOptional(scene_.triangleUvs1, base, total, has.uvs1);
+  GrowOptional(scene_.triangleTangents, base, total, has.tangents);
+  GrowOptional(scene_.triangleColors, base, total, has.colors, kWhiteColors);
+  ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
+    TriangleVertices v;
+    for (size_t r = lo; r < hi; ++r) {
+      size_t out = base + kept[r];
+      for (size_t t = first(r); t < first(r + 1); ++t) {
+        if (!keep[t]) continue;
+        VertexAttributes a = Fetch(t, has, fetch, v);
+        WorldTriangle w;
+        ToWorld(v.p, w.positions);
+        Convert(a, w);
+        scene_.triangles[out] = w.positions;
+        scene_.triangleNormals[out] = w.normals;
+        if (has.uvs) scene_.triangleUvs[out] = w.uvs;
+        if (has.uvs1) scene_.triangleUvs1[out] = w.uvs1;
+        if (has.tangents) scene_.triangleTangents[out] = w.tangents;
+        if (has.colors) scene_.triangleColors[out] = w.colors;
+        ++out;
+      }
+    }
+  });
 }
 
 uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name) {

@@ -27,6 +27,18 @@ struct VertexAttributes {
   const vec4* colors = nullptr;    // linear RGBA
 };
 
+// The vertices of one triangle for MeshSink::AddBatch, with room for every attribute; which
+// ones a batch carries is said once for the whole batch (VertexPresence).
+struct TriangleVertices {
+  vec3 p[3];
+  vec3 normals[3];
+  vec2 uvs[3], uvs1[3];
+  vec4 tangents[3], colors[3];
+};
+struct VertexPresence {
+  bool normals = false, uvs = false, uvs1 = false, tangents = false, colors = false;
+};
+
 // Receives one mesh file's triangles. Positions are transformed in double precision by the
 // current transform (node transforms composed with the object's); normals by its inverse
 // transpose.
@@ -71,6 +83,12 @@ class MeshSink {
     return Add(p, a, material);
   }
 
+  // The same as Add(fetch(t)) for t = 0 .. count-1 in order (same triangles, same values, same
+  // skipped ones), for a big primitive on every core: fetch(t, v) fills triangle t's
+  // vertices and the attributes `has` names, and must be safe to call from several threads.
+  void AddBatch(size_t count, const VertexPresence& has, uint32_t material,
+                const std::function<void(size_t, TriangleVertices&)>& fetch);
+
   uint32_t AddMaterial(const Material& material, const std::string& name);
   // A glTF material's extension entry (Material::ext takes the index returned).
   int32_t AddMaterialExtension(const GltfMaterialExtension& extension);
@@ -86,7 +104,16 @@ class MeshSink {
   void Warn(const std::string& message) { scene_.warnings.push_back(label_ + ": " + message); }
 
  private:
+  struct WorldTriangle;  // one triangle's data as the scene stores it
   bool AddInOrder(const vec3 p[3], const VertexAttributes& attributes, uint32_t material);
+  // The world-space triangle of p: false (out untouched) when it is degenerate.
+  bool ToWorld(const vec3 p[3], Triangle& out) const;
+  // The rest of a kept triangle's data in world space.
+  void Convert(const VertexAttributes& attributes, WorldTriangle& out) const;
+  // t's vertices, with vertices 1 and 2 swapped under a mirroring transform (Add's rule).
+  VertexAttributes Fetch(size_t t, const VertexPresence& has,
+                         const std::function<void(size_t, TriangleVertices&)>& fetch,
+                         TriangleVertices& v) const;
 
   SceneDesc& scene_;
   glm::dmat4 objectToWorld_;

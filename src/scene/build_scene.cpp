@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "src/core/parallel_ranges.h"
 #include "src/geometry/aabb.h"
 #include "src/geometry/bvh.h"
 #include "src/geometry/bvh_wide.h"
@@ -23,16 +24,39 @@ bool NeedsHitTest(const Material& m) {
   return (m.flags & (kMaterialAlphaMask | kMaterialAlphaBlend | kMaterialCullBack)) != 0;
 }
 
+namespace {
+
+// Items per thread below which the per-primitive loops stay on one thread.
+constexpr size_t kMinPrimsPerThread = 1 << 16;
+
+PrimRef MakePrimRef(const SceneDesc& d, ShapeType type, uint32_t index, uint32_t material) {
+  bool test = material < d.materials.size() && NeedsHitTest(d.materials[material]);
+  return PrimRef{PrimRef::Pack(type, index, test), material, -1};
+}
+
+}  // namespace
+
 void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vector<Aabb>& bounds,
-                       const std::vector<bool>& skipTriangle) {
+                       const std::vector<bool>& skipTriangle, int threads) {
   auto add = [&](ShapeType type, uint32_t index, uint32_t material, const Aabb& box) {
-    bool test = material < d.materials.size() && NeedsHitTest(d.materials[material]);
-    prims.push_back(PrimRef{PrimRef::Pack(type, index, test), material, -1});
+    prims.push_back(MakePrimRef(d, type, index, material));
     bounds.push_back(box);
   };
-  for (uint32_t i = 0; i < d.triangles.size(); ++i) {
-    if (i < skipTriangle.size() && skipTriangle[i]) continue;
-    add(ShapeType::kTriangle, i, d.triangleMaterials[i], TriangleBounds(d.triangles[i]));
+  if (skipTriangle.empty()) {  // every triangle: filled in place, a big mesh on every core
+    size_t n = d.triangles.size(), base = prims.size();
+    prims.resize(base + n);
+    bounds.resize(base + n);
+    ForRangesOnThreads(n, threads, kMinPrimsPerThread, [&](size_t lo, size_t hi) {
+      for (size_t i = lo; i < hi; ++i) {
+        prims[base + i] = MakePrimRef(d, ShapeType::kTriangle, uint32_t(i), d.triangleMaterials[i]);
+        bounds[base + i] = TriangleBounds(d.triangles[i]);
+      }
+    });
+  } else {
+    for (uint32_t i = 0; i < d.triangles.size(); ++i) {
+      if (i < skipTriangle.size() && skipTriangle[i]) continue;
+      add(ShapeType::kTriangle, i, d.triangleMaterials[i], TriangleBounds(d.triangles[i]));
+    }
   }
   for (uint32_t i = 0; i < d.quads.size(); ++i)
     add(ShapeType::kQuad, i, d.quadMaterials[i], QuadBounds(d.quads[i]));
@@ -172,33 +196,48 @@ LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unorder
   return out;
 }
 
-void PackTriangles(Scene& scene) {
+void PackTriangles(Scene& scene, int threads) {
   const SceneDesc& d = scene.desc;
   scene.packedTriangles.resize(scene.prims.size());
-  for (size_t i = 0; i < scene.prims.size(); ++i) {
-    const PrimRef& ref = scene.prims[i];
-    PackedTriangle& p = scene.packedTriangles[i];
-    p = PackedTriangle{};
-    p.tag = ref.tagIndex;
-    p.material = ref.material;
-    if (ref.Type() != ShapeType::kTriangle) continue;
-    const Triangle& t = d.triangles[ref.Index()];
-    p.p0 = t.p0;
-    p.p1 = t.p1;
-    p.p2 = t.p2;
-  }
+  ForRangesOnThreads(scene.prims.size(), threads, kMinPrimsPerThread, [&](size_t lo, size_t hi) {
+    for (size_t i = lo; i < hi; ++i) {
+      const PrimRef& ref = scene.prims[i];
+      PackedTriangle& p = scene.packedTriangles[i];
+      p = PackedTriangle{};
+      p.tag = ref.tagIndex;
+      p.material = ref.material;
+      if (ref.Type() != ShapeType::kTriangle) continue;
+      const Triangle& t = d.triangles[ref.Index()];
+      p.p0 = t.p0;
+      p.p1 = t.p1;
+      p.p2 = t.p2;
+    }
+  });
 }
 
 namespace {
+
+// The union of many boxes, a part per thread.
+Aabb UnionOnThreads(const std::vector<Aabb>& boxes, int threads) {
+  std::vector<Aabb> parts(std::max(1, std::min(threads > 0 ? threads : 64, 64)));
+  size_t chunk = (boxes.size() + parts.size() - 1) / parts.size();
+  ForRangesOnThreads(parts.size(), threads, 1, [&](size_t lo, size_t hi) {
+    for (size_t p = lo; p < hi; ++p)
+      for (size_t i = p * chunk; i < std::min(boxes.size(), (p + 1) * chunk); ++i)
+        parts[p] = Union(parts[p], boxes[i]);
+  });
+  Aabb world;
+  for (const Aabb& b : parts) world = Union(world, b);
+  return world;
+}
 
 // The flat scene (no instances): one BVH over every primitive. Returns the world's bounds.
 Aabb BuildFlatScene(Scene& scene, const BvhBuildOptions& options) {
   const SceneDesc& d = scene.desc;
   std::vector<PrimRef> unordered;
   std::vector<Aabb> bounds;
-  CollectPrimitives(d, unordered, bounds);
-  Aabb world;
-  for (const Aabb& b : bounds) world = Union(world, b);
+  CollectPrimitives(d, unordered, bounds, {}, options.threads);
+  Aabb world = UnionOnThreads(bounds, options.threads);
 
   auto t0 = std::chrono::steady_clock::now();
   LayoutBvh bvh = BuildLayoutBvh(d, unordered, bounds, options);
@@ -208,10 +247,13 @@ Aabb BuildFlatScene(Scene& scene, const BvhBuildOptions& options) {
   scene.wideNodes = std::move(bvh.wideNodes);
   scene.bvhSahCost = bvh.sahCost;
   scene.bvhDepth = bvh.depth;
-  scene.prims.reserve(bvh.order.size());
-  for (uint32_t i : bvh.order) scene.prims.push_back(unordered[i]);
+  scene.prims.resize(bvh.order.size());
+  ForRangesOnThreads(bvh.order.size(), options.threads, kMinPrimsPerThread,
+                     [&](size_t lo, size_t hi) {
+                       for (size_t i = lo; i < hi; ++i) scene.prims[i] = unordered[bvh.order[i]];
+                     });
   scene.worldPrimCount = uint32_t(scene.prims.size());
-  PackTriangles(scene);
+  PackTriangles(scene, options.threads);
 
   if (!bounds.empty()) {
     scene.sceneCenter = 0.5f * (world.lo + world.hi);

@@ -14,8 +14,10 @@ bool NeedsHitTest(const Material& m);
 
 // Every shape of the scene as an unordered PrimRef with its bounds, except the triangles
 // flagged in skipTriangle (an instanced mesh's, which live in their own bottom level).
+// threads: for a big mesh's triangles when none is skipped (0: every core); the result is the
+// same for any count.
 void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vector<Aabb>& bounds,
-                       const std::vector<bool>& skipTriangle = {});
+                       const std::vector<bool>& skipTriangle = {}, int threads = 0);
 
 // One BVH in the layout options ask for.
 struct LayoutBvh {
@@ -30,7 +32,7 @@ struct LayoutBvh {
 LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unordered,
                          const std::vector<Aabb>& bounds, const BvhBuildOptions& options);
 
-// scene.packedTriangles from scene.prims (BVH order).
-void PackTriangles(Scene& scene);
+// scene.packedTriangles from scene.prims (BVH order), on `threads` (0: every core).
+void PackTriangles(Scene& scene, int threads = 0);
 
 }  // namespace pt
