@@ -230,28 +230,60 @@ VertexAttributes MeshSink::Fetch(size_t t, const VertexPresence& has,
   return a;
 }
 
+namespace {
+
+// One range's kept triangles, in order, as AddBatch's threads convert them.
+struct BatchPart {
+  std::vector<Triangle> positions;
+  std::vector<TriangleNormals> normals;
+  std::vector<TriangleUvs> uvs, uvs1;
+  std::vector<TriangleTangents> tangents;
+  std::vector<TriangleColors> colors;
+};
+
+template <typename T>
+void CopyPart(const std::vector<T>& part, std::vector<T>& all, size_t at) {
+  std::copy(part.begin(), part.end(), all.begin() + ptrdiff_t(at));
+}
+
+}  // namespace
+
 void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t material,
                         const std::function<void(size_t, TriangleVertices&)>& fetch) {
-  // Fixed ranges: the first pass counts each range's kept triangles, the second writes them
-  // from the range's first slot, so the order is Add's whatever the thread count.
   size_t cores = std::max(1u, std::thread::hardware_concurrency());
   size_t ranges = std::clamp<size_t>(count / kMinBatchPerThread, 1, cores);
-  auto first = [&](size_t r) { return count * r / ranges; };
-  std::vector<uint8_t> keep(count);
-  std::vector<size_t> kept(ranges + 1, 0);
+  if (ranges == 1) {  // one thread: Add in order
+    TriangleVertices one;
+    for (size_t t = 0; t < count; ++t) {
+      VertexAttributes a = Fetch(t, has, fetch, one);
+      AddInOrder(one.p, a, material);
+    }
+    return;
+  }
+  // Each range converts its triangles into its own part, then the parts are copied into the
+  // scene's arrays in range order: Add's order whatever the thread count.
+  std::vector<BatchPart> parts(ranges);
   ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
     TriangleVertices v;
-    Triangle world;
     for (size_t r = lo; r < hi; ++r) {
-      for (size_t t = first(r); t < first(r + 1); ++t) {
-        Fetch(t, has, fetch, v);
-        keep[t] = ToWorld(v.p, world) ? 1 : 0;
-        kept[r + 1] += keep[t];
+      BatchPart& part = parts[r];
+      for (size_t t = count * r / ranges; t < count * (r + 1) / ranges; ++t) {
+        VertexAttributes a = Fetch(t, has, fetch, v);
+        WorldTriangle w;
+        if (!ToWorld(v.p, w.positions)) continue;
+        Convert(a, w);
+        part.positions.push_back(w.positions);
+        part.normals.push_back(w.normals);
+        if (has.uvs) part.uvs.push_back(w.uvs);
+        if (has.uvs1) part.uvs1.push_back(w.uvs1);
+        if (has.tangents) part.tangents.push_back(w.tangents);
+        if (has.colors) part.colors.push_back(w.colors);
       }
     }
   });
-  for (size_t r = 0; r < ranges; ++r) kept[r + 1] += kept[r];
-  size_t base = scene_.triangles.size(), total = kept[ranges];
+  std::vector<size_t> at(ranges + 1, scene_.triangles.size());
+  for (size_t r = 0; r < ranges; ++r) at[r + 1] = at[r] + parts[r].positions.size();
+  size_t base = at[0], total = at[ranges] - base;
   scene_.skippedDegenerateTriangles += int(count - total);
   scene_.triangles.resize(base + total);
   scene_.triangleNormals.resize(base + total);
@@ -261,23 +293,14 @@ void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t materi
   GrowOptional(scene_.triangleTangents, base, total, has.tangents);
   GrowOptional(scene_.triangleColors, base, total, has.colors, kWhiteColors);
   ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
-    TriangleVertices v;
     for (size_t r = lo; r < hi; ++r) {
-      size_t out = base + kept[r];
-      for (size_t t = first(r); t < first(r + 1); ++t) {
-        if (!keep[t]) continue;
-        VertexAttributes a = Fetch(t, has, fetch, v);
-        WorldTriangle w;
-        ToWorld(v.p, w.positions);
-        Convert(a, w);
-        scene_.triangles[out] = w.positions;
-        scene_.triangleNormals[out] = w.normals;
-        if (has.uvs) scene_.triangleUvs[out] = w.uvs;
-        if (has.uvs1) scene_.triangleUvs1[out] = w.uvs1;
-        if (has.tangents) scene_.triangleTangents[out] = w.tangents;
-        if (has.colors) scene_.triangleColors[out] = w.colors;
-        ++out;
-      }
+      BatchPart part = std::move(parts[r]);  // freed as soon as it is copied
+      CopyPart(part.positions, scene_.triangles, at[r]);
+      CopyPart(part.normals, scene_.triangleNormals, at[r]);
+      if (has.uvs) CopyPart(part.uvs, scene_.triangleUvs, at[r]);
+      if (has.uvs1) CopyPart(part.uvs1, scene_.triangleUvs1, at[r]);
+      if (has.tangents) CopyPart(part.tangents, scene_.triangleTangents, at[r]);
+      if (has.colors) CopyPart(part.colors, scene_.triangleColors, at[r]);
     }
   });
 }

@@ -472,9 +472,8 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
                  "the scene");
   SceneDesc scene;
   scene.path = pathForMessages;
-  LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {}, {}};
-  state.options = &options;
-  state.variant = options.variant;
+  LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {},
+                  {}, &options, options.variant};
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {
