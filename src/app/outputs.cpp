@@ -55,15 +55,7 @@ std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& ima
   }
   std::exception_ptr failure;
   try {
-    if (!image.denoised.empty()) {  // --denoise: -o shows the denoised image
-      FilmImage shown;
-      shown.width = image.width;
-      shown.height = image.height;
-      shown.rgb = image.denoised;
-      WriteDisplayImage(cli.outputPath, shown, cli.display);
-    } else {
-      WriteDisplayImage(cli.outputPath, image, cli.display);
-    }
+    WriteShownImage(cli.outputPath, image, cli.display);
   } catch (...) {
     failure = std::current_exception();
   }
@@ -76,6 +68,16 @@ std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& ima
   }
   if (failure) std::rethrow_exception(failure);
   return written;
+}
+
+void WriteShownImage(const std::string& path, const FilmImage& image,
+                     const DisplaySettings& display) {
+  if (image.denoised.empty()) return WriteDisplayImage(path, image, display);
+  FilmImage shown;  // --denoise: -o shows the denoised image
+  shown.width = image.width;
+  shown.height = image.height;
+  shown.rgb = image.denoised;
+  WriteDisplayImage(path, shown, display);
 }
 
 }  // namespace pt

@@ -31,6 +31,11 @@ std::vector<std::string> WriteImages(const CliOptions& cli, const FilmImage& ima
 void WriteDisplayImage(const std::string& path, const FilmImage& image,
                        const DisplaySettings& display);
 
+// The image -o shows at path: the denoised one when the film has it, else the image itself,
+// through WriteDisplayImage. Throws ImageError.
+void WriteShownImage(const std::string& path, const FilmImage& image,
+                     const DisplaySettings& display);
+
 // A checkpoint: the --hdr EXR with the state. Throws ImageError.
 void WriteCheckpoint(const CliOptions& cli, const FilmImage& image, const ResumableState& state);
 

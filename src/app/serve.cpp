@@ -99,13 +99,8 @@ void SaveOnExit(const CliOptions& cli, LiveRender& live) {
   std::string files;
   try {
     if (!cli.outputPath.empty()) {
-      FilmImage shown;  // denoised on the page: the PNG too (as -o --denoise writes it)
-      if (!image->denoised.empty()) {
-        shown.width = image->width;
-        shown.height = image->height;
-        shown.rgb = image->denoised;
-      }
-      WriteDisplayImage(cli.outputPath, image->denoised.empty() ? *image : shown, display);
+      // Denoised on the page: the PNG too (as -o --denoise writes it).
+      WriteShownImage(cli.outputPath, *image, display);
       files = cli.outputPath;
     }
     if (!cli.hdrPath.empty()) {
