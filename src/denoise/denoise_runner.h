@@ -138,19 +138,14 @@ class DenoiseRunner {
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0 + 2 * f) * d.stride, [=] PT_HD(uint32_t i) {
       DenoiseDistancePixel(d, offset, first + size_t(i));
     });
-    switch (s.patchRadius * 4 + s.candidateCount) {  // one kernel per shape
-      case 1: Accumulate<0, 1>(r0, r1, offset); break;
-      case 2: Accumulate<0, 2>(r0, r1, offset); break;
-      case 3: Accumulate<0, 3>(r0, r1, offset); break;
-      case 5: Accumulate<1, 1>(r0, r1, offset); break;
-      case 6: Accumulate<1, 2>(r0, r1, offset); break;
-      case 7: Accumulate<1, 3>(r0, r1, offset); break;
-      case 9: Accumulate<2, 1>(r0, r1, offset); break;
-      case 10: Accumulate<2, 2>(r0, r1, offset); break;
-      case 11: Accumulate<2, 3>(r0, r1, offset); break;
-      case 13: Accumulate<3, 1>(r0, r1, offset); break;
-      case 14: Accumulate<3, 2>(r0, r1, offset); break;
-      default: Accumulate<3, 3>(r0, r1, offset); break;
+    // One kernel per patch size. Every candidate's sums are kept whatever candidateCount says
+    // (those past it are never read): a third of the kernels to compile, and the default
+    // (three candidates) pays nothing for it.
+    switch (s.patchRadius) {
+      case 0: Accumulate<0, kDenoiseCandidates>(r0, r1, offset); break;
+      case 1: Accumulate<1, kDenoiseCandidates>(r0, r1, offset); break;
+      case 2: Accumulate<2, kDenoiseCandidates>(r0, r1, offset); break;
+      default: Accumulate<3, kDenoiseCandidates>(r0, r1, offset); break;
     }
   }
 
