@@ -318,53 +318,20 @@ struct WideNodeFrame {
                          FloatFromBits(((e >> 16) & 0xffu) << 23) * r.invDir.z,
                          ax - ex, ay - ey, az - ez, ax + ex, ay + ey, az + ez};
   }
-
-  // Make, exact on parallel axes (WideRay::parallel) without a per-slot mask: there the frame
-  // holds a step in the slot's byte instead of distances. The bytes are whole numbers and
-  // ParallelSlotKeep's cuts lie half-way between two, so q * adj + near is at most -kStep / 2
-  // for a near plane that admits the ray and at least +kStep / 2 for one that does not (and the
-  // far plane the other way round): the slot loop's max and min then cull exactly the slots
-  // ParallelSlotKeep culls. (On the GPU this alone did not win back the cost the parallel-axis
-  // code had on rays without a parallel axis; the split walk of traverse_wide.h did.)
-  PT_HDI_HOT static WideNodeFrame MakeExact(const WideNodeWords& n, const WideRay& r) {
-    WideNodeFrame f = Make(n, r);
-    if (r.parallel != 0) f.StepParallelAxes(n, r);
-    return f;
-  }
-
-  PT_HDI void StepParallelAxes(const WideNodeWords& n, const WideRay& r) {
-    constexpr float kStep = 0x1p118f;  // 255.5 * kStep stays finite
-    const vec3 absInv(fabsf(r.invDir.x), fabsf(r.invDir.y), fabsf(r.invDir.z));
-    float reach;
-    const int m = ParallelReach(n, r, absInv, &reach);
-    float* adj[3] = {&adjX, &adjY, &adjZ};
-    float* nearD[3] = {&nearX, &nearY, &nearZ};
-    float* farD[3] = {&farX, &farY, &farZ};
-    for (int a = 0; a < 3; ++a) {
-      if (((r.parallel >> a) & 1u) == 0) continue;
-      float lo, hi;
-      ParallelBounds(n, r, absInv, a, m, reach, &lo, &hi);
-      // A qlo above cutHi or a qhi below cutLo: out. A NaN bound keeps every slot.
-      const float cutHi = (hi < 255.0f ? floorf(hi < -1.0f ? -1.0f : hi) : 255.0f) + 0.5f;
-      const float cutLo = (lo > 0.0f ? ceilf(lo > 256.0f ? 256.0f : lo) : 0.0f) - 0.5f;
-      // Going up the near plane is qlo, the far one qhi; going down (neg) the other way round.
-      const float sign = r.neg[a] ? -1.0f : 1.0f;
-      *adj[a] = sign * kStep;
-      *nearD[a] = -sign * kStep * (r.neg[a] ? cutLo : cutHi);
-      *farD[a] = -sign * kStep * (r.neg[a] ? cutHi : cutLo);
-    }
-  }
 };
 
 // The node test one slot at a time (the GPU's; hosts run it for kNearest). kNearest: also
 // *nearestBit = the mask bit of the hit interior child with the smallest entry distance (0:
 // none), which closest-hit walks on the GPU visit first (traverse_wide.h).
-// kParallel: the ray may have a parallel axis (r.parallel, checked per node); a walk whose ray
-// has none may leave it out (traverse_wide.h: the GPU's walk then has no parallel-axis code).
+// kParallel: the ray may have a parallel axis (r.parallel, checked per node: ParallelSlotKeep's
+// mask, as the SSE and AVX2 tests); a walk whose ray has none may leave it out (traverse_wide.h:
+// the GPU's walk then has no parallel-axis code, which cost it 10-20% even untaken).
 template <bool kNearest, bool kParallel = true>
 PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const WideRay& r,
                                                 float tMax, uint32_t* nearestBit) {
-  const WideNodeFrame f = kParallel ? WideNodeFrame::MakeExact(n, r) : WideNodeFrame::Make(n, r);
+  const WideNodeFrame f = WideNodeFrame::Make(n, r);
+  SlotKeep keep{{~0u, ~0u}};
+  if (kParallel && r.parallel != 0) keep = ParallelSlotKeep(n, r);
   uint32_t hits = 0, nearest = 0;
   float nearestT = tMax;
   for (int half = 0; half < 2; ++half) {
@@ -375,7 +342,8 @@ PT_HDI_HOT uint32_t IntersectWideChildrenScalar(const WideNodeWords& n, const Wi
     const uint32_t qnX = r.neg[0] ? hiX : loX, qfX = r.neg[0] ? loX : hiX;
     const uint32_t qnY = r.neg[1] ? hiY : loY, qfY = r.neg[1] ? loY : hiY;
     const uint32_t qnZ = r.neg[2] ? hiZ : loZ, qfZ = r.neg[2] ? loZ : hiZ;
-    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half], r.octInv);
+    // A culled slot's meta is 0: no hit bits, and never the nearest.
+    const SlotBits4 slots = SlotBits4::Decode(n.w[6 + half] & keep.half[half], r.octInv);
     for (uint32_t k = 0; k < 4; ++k) {
       float t0 = MulAdd(ByteAsFloat(qnX, k), f.adjX, f.nearX);
       t0 = t0 > 0.0f ? t0 : 0.0f;
