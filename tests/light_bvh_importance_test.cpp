@@ -5,6 +5,7 @@
 // the neighbouring blocks.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "src/lights/light_bvh_build.h"

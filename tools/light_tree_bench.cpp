@@ -235,6 +235,16 @@ int main(int argc, char** argv) {
   std::printf("%s: %u finite lights, %u tree nodes, %zu %s points\n", argv[1],
               v.lightTree.boundedCount, v.lightTree.nodeCount, pts.size(),
               bounce ? "second-hit" : "first-hit");
+  double depthSum = 0.0;
+  int leaves = 0, deepest = 0;
+  for (uint32_t i = 0; i < v.lightTree.boundedCount; ++i) {
+    if (v.lightTrails[i] == 0) continue;
+    int depth = 63 - __builtin_clzll(v.lightTrails[i]);  // the trail's end marker
+    depthSum += depth;
+    deepest = std::max(deepest, depth);
+    ++leaves;
+  }
+  std::printf("  leaf depth: mean %.1f, deepest %d\n", depthSum / leaves, deepest);
   Study(scene, v, pts);
   TimeChoices(v, pts);
   return 0;

@@ -72,7 +72,8 @@ PT_HDI float SinSubClamped(float sinA, float cosA, float sinB, float cosB) {
 PT_HDI float BoxCosBound(vec3 a, vec3 d, vec3 half, float dc, bool twoSided) {
   float h = glm::dot(a, d), spread = glm::dot(Abs(a), half);
   float hi = (twoSided ? fabsf(h) : h) + spread;
-  return hi > 0.0f ? fminf(1.0f, hi / dc) : 0.0f;
+  float c = hi / dc;
+  return hi > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;  // (not fminf: GCC calls libm on the host)
 }
 
 // The smaller of two bounds on a cosine, kept at least kBoxCosFloor (or the first bound, if
