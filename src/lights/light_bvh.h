@@ -64,11 +64,59 @@ PT_HDI float SinSubClamped(float sinA, float cosA, float sinB, float cosB) {
   return cosA > cosB ? 0.0f : sinA * cosB - cosA * sinB;
 }
 
+// A bound on cos(a, p - x) over every point x of a box (centre c, half extents `half`, d = p -
+// c) at distance dc > 0 from p: dot(a, p - x) <= dot(a, d) + dot(|a|, half) and |p - x| >= dc.
+// (Two-sided: on |cos|.) Where a large box is near the point this is far tighter than the cone
+// of the box's bounding sphere, which from inside that sphere bounds nothing: from a street
+// below a plane of downward lamps, the neighbouring blocks' lamps are seen at grazing angles.
+PT_HDI float BoxCosBound(vec3 a, vec3 d, vec3 half, float dc, bool twoSided) {
+  float h = glm::dot(a, d), spread = glm::dot(Abs(a), half);
+  float hi = (twoSided ? fabsf(h) : h) + spread;
+  float c = hi / dc;
+  return hi > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;  // (not fminf: GCC calls libm on the host)
+}
+
+// The smaller of two bounds on a cosine, kept at least kBoxCosFloor (or the first bound, if
+// lower): the box bound only sharpens the importance, and the floor keeps a light the first
+// bound lets through from a zero choice probability when float rounding makes the box bound 0.
+constexpr float kBoxCosFloor = 1e-3f;
+PT_HDI float TightenCos(float sphereBound, float boxBound) {
+  float floor = sphereBound < kBoxCosFloor ? sphereBound : kBoxCosFloor;
+  float c = sphereBound < boxBound ? sphereBound : boxBound;
+  return c > floor ? c : floor;
+}
+
+// A bound on the emission cosine of lights b towards the point (1: omnidirectional), from
+// wi, the unit direction from the box centre to the point, widened by the cone (sinB, cosB)
+// the box fills from the point. At most b.cosTheta_e where no light emits towards the point.
+PT_HDI float EmissionCosBound(const LightBounds& b, vec3 wi, float sinB, float cosB) {
+  if (!(b.cosTheta_o > -1.0f)) return 1.0f;
+  float cosW = glm::dot(b.w, wi);
+  if (b.twoSided) cosW = fabsf(cosW);
+  float sin2W = 1.0f - cosW * cosW, sin2O = 1.0f - b.cosTheta_o * b.cosTheta_o;
+  float sinW = sqrtf(sin2W > 0.0f ? sin2W : 0.0f), sinO = sqrtf(sin2O > 0.0f ? sin2O : 0.0f);
+  // The smallest angle between an emitting normal and a direction to the point.
+  float cosX = CosSubClamped(sinW, cosW, sinO, b.cosTheta_o);
+  float sinX = SinSubClamped(sinW, cosW, sinO, b.cosTheta_o);
+  return CosSubClamped(sinX, cosX, sinB, cosB);
+}
+
+// cosP (EmissionCosBound's, above b.cosTheta_e) sharpened by BoxCosBound for a point outside
+// the box (dc > 0, d = p - centre): the normals lie within theta_o of the axis w.
+PT_HDI float SharpenEmissionCos(const LightBounds& b, float cosP, vec3 d, vec3 half, float dc) {
+  if (!(dc > 0.0f) || !(b.cosTheta_o > -1.0f)) return cosP;
+  float cosW = BoxCosBound(b.w, d, half, dc, b.twoSided);
+  float sin2O = 1.0f - b.cosTheta_o * b.cosTheta_o;
+  float sinO = sqrtf(sin2O > 0.0f ? sin2O : 0.0f);
+  return TightenCos(cosP, CosSubClamped(sqrtf(1.0f - cosW * cosW), cosW, sinO, b.cosTheta_o));
+}
+
 // Importance of lights with bounds b at r: phi times a bound on the emission cosine towards
 // the point, over the squared distance to the box centre (at least the box's half-diagonal
 // squared, so a point inside or near the box does not blow up), times a bound on the
 // receiver's cosine when it has a normal. The angle the box subtends from the point widens
-// both cosine bounds, so a box near the point's horizon still counts.
+// both cosine bounds, so a box near the point's horizon still counts; from outside the box,
+// BoxCosBound sharpens both.
 PT_HDI float LightImportance(const LightBounds& b, const LightRef& r) {
   vec3 centre = 0.5f * (b.lo + b.hi), half = 0.5f * (b.hi - b.lo);
   vec3 d = r.p - centre;
@@ -88,6 +136,9 @@ PT_HDI float LightImportance(const LightBounds& b, const LightRef& r) {
   float d2 = dist2 > radius2 ? dist2 : radius2;
   if (!(d2 > 0.0f)) return 0.0f;  // a point light at the point: no direction to it
   vec3 wi = dist2 > 0.0f ? d * (1.0f / sqrtf(dist2)) : vec3(0.0f);  // lights to the point
+  vec3 outside = glm::max(Abs(d) - half, vec3(0.0f));
+  float dc2 = glm::dot(outside, outside);  // squared distance from the point to the box
+  float dc = dc2 > 0.0f ? sqrtf(dc2) : 0.0f;
   // The cone of directions the box fills as seen from the point (all of them from inside).
   // (Ternaries, not fmaxf: GCC calls libm for fmaxf on the host.)
   float sinB = 0.0f, cosB = -1.0f;
@@ -96,24 +147,16 @@ PT_HDI float LightImportance(const LightBounds& b, const LightRef& r) {
     sinB = sqrtf(sin2B);
     cosB = sqrtf(1.0f - sin2B);
   }
-  float cosP = 1.0f;  // every emission direction reaches the point: omnidirectional lights
-  if (b.cosTheta_o > -1.0f) {
-    float cosW = glm::dot(b.w, wi);
-    if (b.twoSided) cosW = fabsf(cosW);
-    float sin2W = 1.0f - cosW * cosW, sin2O = 1.0f - b.cosTheta_o * b.cosTheta_o;
-    float sinW = sqrtf(sin2W > 0.0f ? sin2W : 0.0f), sinO = sqrtf(sin2O > 0.0f ? sin2O : 0.0f);
-    // The smallest angle between an emitting normal and a direction to the point.
-    float cosX = CosSubClamped(sinW, cosW, sinO, b.cosTheta_o);
-    float sinX = SinSubClamped(sinW, cosW, sinO, b.cosTheta_o);
-    cosP = CosSubClamped(sinX, cosX, sinB, cosB);
-    if (cosP <= b.cosTheta_e) return 0.0f;
-  }
-  float importance = b.phi * cosP / d2;
+  float cosP = EmissionCosBound(b, wi, sinB, cosB);
+  if (cosP <= b.cosTheta_e) return 0.0f;
+  float importance = b.phi * SharpenEmissionCos(b, cosP, d, half, dc) / d2;
   if (hasNormal) {
     float cosI = -glm::dot(wi, r.n);
     if (r.twoSided) cosI = fabsf(cosI);
     float sin2I = 1.0f - cosI * cosI;
     float cosR = CosSubClamped(sqrtf(sin2I > 0.0f ? sin2I : 0.0f), cosI, sinB, cosB);
+    if (dc > 0.0f && cosR > 0.0f)
+      cosR = TightenCos(cosR, BoxCosBound(-r.n, d, half, dc, r.twoSided));
     importance *= cosR > 0.0f ? cosR : 0.0f;
   }
   return importance;
