@@ -73,6 +73,21 @@ TEST_F(CliMessages, TheLastLinesNameEachFileWritten) {
       << out;
 }
 
+// A downward lamp the camera sees from above lights the floor below it: no "faces away"
+// warning, whichever BVH layout holds the scene (the wide one keeps no binary tree to search).
+TEST_F(CliMessages, NoFacesAwayWarningForALampThatLightsTheFloor) {
+  std::string text = test::kTinyScene;
+  const std::string camera = R"("position": [0, 1, 3])";
+  text.replace(text.find(camera), camera.size(), R"("position": [0, 3, 3])");
+  std::string scene = WriteText(dir_ + "/above.json", text);
+  for (const char* layout : {"wide", "binary"}) {
+    std::string out;
+    ASSERT_EQ(RunPathtracer(scene + " -o " + dir_ + "/out.png --backend cpu --bvh " + layout,
+                            &out), 0) << out;
+    EXPECT_EQ(out.find("faces away"), std::string::npos) << layout << ": " << out;
+  }
+}
+
 // A scene that renders black for a reason the user can fix still renders (exit 0), with a
 // warning that says why.
 TEST_F(CliMessages, WarningsForScenesThatRenderBlack) {

@@ -65,16 +65,7 @@ void ExpectSameScene(const SceneDesc& a, const SceneDesc& b) {
 // batch into `batched`.
 void AddBoth(MeshSink& inOrder, MeshSink& batched, const std::vector<TriangleVertices>& tris,
              size_t first, size_t last, const VertexPresence& has, uint32_t material) {
-  for (size_t t = first; t < last; ++t) {
-    const TriangleVertices& v = tris[t];
-    VertexAttributes a;
-    if (has.normals) a.normals = v.normals;
-    if (has.uvs) a.uvs = v.uvs;
-    if (has.uvs1) a.uvs1 = v.uvs1;
-    if (has.tangents) a.tangents = v.tangents;
-    if (has.colors) a.colors = v.colors;
-    inOrder.Add(v.p, a, material);
-  }
+  for (size_t t = first; t < last; ++t) inOrder.Add(tris[t].p, AttributesOf(tris[t], has), material);
   batched.AddBatch(last - first, has, material,
                    [&](size_t t, TriangleVertices& v) { v = tris[first + t]; });
 }

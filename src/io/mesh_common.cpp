@@ -221,6 +221,10 @@ VertexAttributes MeshSink::Fetch(size_t t, const VertexPresence& has,
     std::swap(v.tangents[1], v.tangents[2]);
     std::swap(v.colors[1], v.colors[2]);
   }
+  return AttributesOf(v, has);
+}
+
+VertexAttributes AttributesOf(const TriangleVertices& v, const VertexPresence& has) {
   VertexAttributes a;
   if (has.normals) a.normals = v.normals;
   if (has.uvs) a.uvs = v.uvs;

@@ -38,6 +38,8 @@ struct TriangleVertices {
 struct VertexPresence {
   bool normals = false, uvs = false, uvs1 = false, tangents = false, colors = false;
 };
+// v's attributes that `has` names, as Add takes them (pointing into v).
+VertexAttributes AttributesOf(const TriangleVertices& v, const VertexPresence& has);
 
 // Receives one mesh file's triangles. Positions are transformed in double precision by the
 // current transform (node transforms composed with the object's); normals by its inverse

@@ -45,7 +45,11 @@ bool PrimReaches(const SceneDesc& d, const PrimRef& prim, const FrontSide& side)
 // Any primitive with a point in front of the plane, found by descending the BVH past every
 // node that lies wholly behind it.
 bool AnythingInFront(const Scene& scene, const FrontSide& side) {
-  if (scene.nodes.empty()) return false;
+  if (scene.nodes.empty()) {  // the wide layout keeps no binary tree: every primitive in turn
+    for (const PrimRef& prim : scene.prims)
+      if (PrimReaches(scene.desc, prim, side)) return true;
+    return false;
+  }
   std::vector<uint32_t> stack{0};
   while (!stack.empty()) {
     const BvhNode& node = scene.nodes[stack.back()];
