@@ -25,7 +25,7 @@ echo "=== light tests on the GPU build"
   | tee "$OUT/light_tests.log" | tail -8
 
 echo "=== compute-sanitizer memcheck: a 2,000-lamp city, bvh, 64x64 4 spp, sort off and queues"
-python3 benchmarks/scenes/make_many_lights.py city --lamps 2000 "$OUT/city_small.json" >/dev/null
+python3 benchmarks/scenes/make_many_lights.py city "$OUT/city_small.json" --lamps 2000 >/dev/null
 for sort in off queues; do
   compute-sanitizer --tool memcheck --error-exitcode 99 "$BIN/pathtracer" "$OUT/city_small.json" \
     -o "$OUT/san_$sort.exr" --width 64 --height 64 --spp 4 --backend cuda --light-sampler bvh \
