@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""The denoiser's error against time (issue 31's curve): per scene, relMSE of the raw and of
+the denoised image against a reference of ours, at several spp and seeds, against render time
+(raw) and render + denoise time (denoised). Each run renders once with --denoise and an --hdr
+EXR, which holds the raw beauty and the denoised layer, so raw and denoised come from the same
+samples; the raw time is that run's render (the film keeps its half buffers, a few percent).
+The knee is where the raw curve reaches the denoised one at equal time: beyond it denoising
+no longer pays. Writes denoise_curve.csv and denoise_curve.md under --out; plot it here with
+--plot (matplotlib).
+
+  python3 benchmarks/denoise_curve.py --binary .device/bin/pathtracer --out $OUT
+  /usr/bin/python3 benchmarks/denoise_curve.py --plot benchmarks/results/X/denoise_curve.csv
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+DEFAULT_SCENES = ("benchmarks/scenes/bunny_cornell.json:960x540,"
+                  "benchmarks/scenes/breakfast_room_sunsky.json:640x360,"
+                  "benchmarks/scenes/damaged_helmet.json:960x540")
+
+
+def render(binary, scene, size, spp, seed, out, backend, denoise):
+    w, h = size.split("x")
+    cmd = [binary, scene, "-o", out + ".pfm", "--hdr", out + ".exr", "--width", w, "--height", h,
+           "--spp", str(spp), "--seed", str(seed), "--backend", backend, "--quiet",
+           "--stats-json", out + ".json"] + (["--denoise"] if denoise else [])
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    return json.load(open(out + ".json"))["time_ms"]
+
+
+def rel_mse(np, x, ref, noise, den):
+    return float(np.mean(((x - ref) ** 2 - noise) / den))
+
+
+def measure(args):
+    import numpy as np
+    from accuracy_lib import read_exr
+    rows = []
+    for entry in args.scenes.split(","):
+        scene, size = entry.split(":")
+        tmp = os.path.join(args.out, "tmp")
+        os.makedirs(tmp, exist_ok=True)
+        render(args.binary, scene, size, args.ref_spp, 77, tmp + "/ref", args.backend, False)
+        ref = read_exr(tmp + "/ref.exr")
+        r = np.stack([ref[c] for c in "RGB"], -1)
+        # The reference's own noise, the variance of its mean, taken out of every squared error.
+        noise = np.stack([ref["variance." + c] for c in "RGB"], -1) / \
+            np.maximum(ref["samples"], 1)[..., None]
+        den = r * r + 1e-2
+        for spp in [int(s) for s in args.spps.split(",")]:
+            for seed in range(1, args.seeds + 1):
+                t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend, True)
+                img = read_exr(tmp + "/x.exr")
+                raw = np.stack([img[c] for c in "RGB"], -1)
+                dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
+                base = dict(scene=os.path.basename(scene), size=size, spp=spp, seed=seed)
+                rows.append(dict(base, image="raw", seconds=t["render"] / 1000.0,
+                                 relmse=rel_mse(np, raw, r, noise, den)))
+                rows.append(dict(base, image="denoised",
+                                 seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
+                                 relmse=rel_mse(np, dn, r, noise, den)))
+        print("%s: reference %d spp, own relMSE %.2e" % (scene, args.ref_spp,
+                                                          float(np.mean(noise / den))))
+        for f in os.listdir(tmp):
+            os.remove(os.path.join(tmp, f))
+    with open(os.path.join(args.out, "denoise_curve.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    return rows
+
+
+def means(rows):
+    """{scene: {image: [(spp, mean seconds, mean relMSE)]}}"""
+    acc = {}
+    for r in rows:
+        key = (r["scene"], r["image"], int(r["spp"]))
+        acc.setdefault(key, []).append((float(r["seconds"]), float(r["relmse"])))
+    out = {}
+    for (scene, image, spp), v in sorted(acc.items()):
+        out.setdefault(scene, {}).setdefault(image, []).append(
+            (spp, sum(x[0] for x in v) / len(v), sum(x[1] for x in v) / len(v)))
+    return out
+
+
+def table(rows, label):
+    lines = ["Denoiser: relMSE against time, %s; mean over seeds; time in seconds (render, "
+             "or render + denoise)." % label, "",
+             "| scene | spp | raw relMSE | raw s | denoised relMSE | denoised s |",
+             "|---|---|---|---|---|---|"]
+    for scene, images in means(rows).items():
+        for (spp, ts, es), (_, td, ed) in zip(images["raw"], images["denoised"]):
+            lines.append("| %s | %d | %.3e | %.3f | %.3e | %.3f |" % (scene, spp, es, ts, ed, td))
+    return "\n".join(lines) + "\n"
+
+
+def plot(csv_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = list(csv.DictReader(open(csv_path)))
+    data = means(rows)
+    fig, axes = plt.subplots(1, len(data), figsize=(5 * len(data), 4.2), squeeze=False)
+    for ax, (scene, images) in zip(axes[0], data.items()):
+        for image, style in (("raw", "o-"), ("denoised", "s--")):
+            pts = images[image]
+            ax.loglog([p[1] for p in pts], [p[2] for p in pts], style, label=image)
+            for spp, t, e in pts:
+                ax.annotate(str(spp), (t, e), fontsize=7, xytext=(3, 3),
+                            textcoords="offset points")
+        ax.set_title(scene)
+        ax.set_xlabel("seconds (render, + denoise)")
+        ax.set_ylabel("relMSE")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    out = os.path.splitext(csv_path)[0] + ".png"
+    fig.savefig(out, dpi=110)
+    print("wrote", out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--binary", default=".device/bin/pathtracer")
+    ap.add_argument("--backend", default="cuda")
+    ap.add_argument("--scenes", default=DEFAULT_SCENES, help="comma-separated PATH:WxH")
+    ap.add_argument("--spps", default="4,16,64,256,1024")
+    ap.add_argument("--seeds", type=int, default=2)
+    ap.add_argument("--ref-spp", type=int, default=8192)
+    ap.add_argument("--out", default="out")
+    ap.add_argument("--label", default="")
+    ap.add_argument("--plot", help="plot this CSV instead of measuring")
+    args = ap.parse_args()
+    if args.plot:
+        return plot(args.plot)
+    os.makedirs(args.out, exist_ok=True)
+    rows = measure(args)
+    text = table(rows, args.label or args.backend)
+    open(os.path.join(args.out, "denoise_curve.md"), "w").write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
