@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 #include "src/core/parallel_ranges.h"
@@ -217,17 +218,16 @@ void PackTriangles(Scene& scene, int threads) {
 
 namespace {
 
-// The union of many boxes, a part per thread.
+// The union of many boxes, a range per thread (min and max: the same in any order).
 Aabb UnionOnThreads(const std::vector<Aabb>& boxes, int threads) {
-  std::vector<Aabb> parts(std::max(1, std::min(threads > 0 ? threads : 64, 64)));
-  size_t chunk = (boxes.size() + parts.size() - 1) / parts.size();
-  ForRangesOnThreads(parts.size(), threads, 1, [&](size_t lo, size_t hi) {
-    for (size_t p = lo; p < hi; ++p)
-      for (size_t i = p * chunk; i < std::min(boxes.size(), (p + 1) * chunk); ++i)
-        parts[p] = Union(parts[p], boxes[i]);
-  });
   Aabb world;
-  for (const Aabb& b : parts) world = Union(world, b);
+  std::mutex mutex;
+  ForRangesOnThreads(boxes.size(), threads, kMinPrimsPerThread, [&](size_t lo, size_t hi) {
+    Aabb part;
+    for (size_t i = lo; i < hi; ++i) part = Union(part, boxes[i]);
+    std::lock_guard<std::mutex> lock(mutex);
+    world = Union(world, part);
+  });
   return world;
 }
 
