@@ -25,7 +25,7 @@ void Enumerate(const SceneView& v, const LightRef& r, uint32_t node, double p,
                std::map<uint32_t, double>* out, double* mass) {
   const LightBvhNode& n = v.lightNodes[node];
   if (n.IsLeaf()) {
-    if (node == 0 && !(NodeImportance(v, 0, r) > 0.0f)) return;
+    // A single light (the root a leaf) is chosen wherever the point is.
     (*out)[n.Light()] += p;
     *mass += p;
     return;

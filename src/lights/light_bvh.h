@@ -213,7 +213,8 @@ PT_HDI bool SampleLightTree(const SceneView& s, const LightRef& r, float u, floa
       p *= p1;
     }
   }
-  if (k == 0 && !(NodeImportance(s, 0, r) > 0.0f)) return false;  // a single light
+  // A single light is chosen with probability 1 wherever it is (its importance would only
+  // say where it cannot reach, which its sample says too): the power table's cost.
   *light = int(s.lightNodes[k].Light());
   *pmf = p;
   return p > 0.0f;
@@ -224,7 +225,7 @@ PT_HDI float LightTreePmf(const SceneView& s, const LightRef& r, uint32_t light)
   if (s.lightTree.nodeCount == 0 || light >= s.lightTree.boundedCount) return 0.0f;
   uint64_t trail = s.lightTrails[light];
   if (trail == 0) return 0.0f;
-  if (trail == 1) return NodeImportance(s, 0, r) > 0.0f ? 1.0f : 0.0f;
+  if (trail == 1) return 1.0f;  // a single light (SampleLightTree)
   uint32_t k = 0;
   float p = 1.0f;
   for (; trail != 1; trail >>= 1) {

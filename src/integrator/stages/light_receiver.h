@@ -11,8 +11,10 @@
 
 namespace pt {
 
+// A tree of one finite light chooses it whatever the receiver (light_bvh.h), so no normal
+// is kept for it.
 PT_HDI bool UsesLightTree(const SceneView& s) {
-  return s.lightTree.sampler == uint32_t(LightSampler::kBvh);
+  return s.lightTree.sampler == uint32_t(LightSampler::kBvh) && s.lightTree.boundedCount > 1;
 }
 
 // Whether a material may scatter light arriving from behind its shading normal (glass, glTF
