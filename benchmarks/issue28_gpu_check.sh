@@ -128,10 +128,12 @@ if [[ " $STEPS " == *" wall "* ]]; then
               "breakfast:benchmarks/scenes/breakfast_room.json:" \
               "big3m:benchmarks/scenes/breakfast_room_bunnies.json:--spp 16"; do
     IFS=: read -r name scene args <<<"$spec"
-    for b in BASE NEW; do
+    # WALL_VARIANTS may add EAGER: NEW with every kernel loaded at start-up (no warm-up wave).
+    for b in ${WALL_VARIANTS:-BASE NEW}; do
       bin=$([ $b = BASE ] && echo "$BASE" || echo "$NEW")
       # shellcheck disable=SC2086
-      wall "$bin" "wall_${name}_$b" "$scene" $args
+      if [ "$b" = EAGER ]; then CUDA_MODULE_LOADING=EAGER wall "$bin" "wall_${name}_$b" "$scene" $args
+      else wall "$bin" "wall_${name}_$b" "$scene" $args; fi
       summary "wall_${name}_$b"
     done
   done

@@ -123,6 +123,8 @@ class CpuBackend {
   void Synchronize() {}
   void BindThread() {}  // host memory: any thread may copy
   StageTimes Times() const { return times_; }
+  void ResetTimes() { times_ = StageTimes{}; }
+  bool LoadsKernelsOnFirstUse() const { return false; }  // compiled into the binary
   std::string Name() const { return "cpu"; }
   std::string DeviceName() const;
   int ThreadCount() const { return pool_.Size(); }

@@ -116,6 +116,9 @@ class CudaBackend {
   // Makes this backend's device current on the calling thread (a thread that only copies).
   void BindThread();
   StageTimes Times() const { return times_; }
+  void ResetTimes() { times_ = StageTimes{}; }
+  // CUDA 12's default (CUDA_MODULE_LOADING unset or LAZY) loads a kernel at its first launch.
+  bool LoadsKernelsOnFirstUse() const { return lazyLoading_; }
   std::string Name() const { return "cuda"; }
   std::string DeviceName() const { return deviceName_; }
   int ThreadCount() const { return 0; }
@@ -124,6 +127,7 @@ class CudaBackend {
  private:
   size_t defaultPaths_ = size_t(1) << 21;
   int device_ = 0;
+  bool lazyLoading_ = true;
   void BeginStage(Stage stage);
   void EndStage(Stage stage);
 

@@ -112,14 +112,13 @@ void CudaBackend::OrderByKey(Stage stage, const OrderShape& shape, const OrderAr
 
 namespace {
 
-// CUDA 12+ loads each kernel lazily at its first launch, which put 40-65 ms of module loading
-// into the first wave's generate stage (measured on an H100, benchmarks/RESULTS.md) and so
-// into every render's time. Loading the whole module when the context is created moves that
-// to start-up, where time_ms.total still counts it. Must run before the first CUDA call; a
-// user's own CUDA_MODULE_LOADING wins.
-void PreferEagerModuleLoading() {
-  static const bool set = setenv("CUDA_MODULE_LOADING", "EAGER", /*overwrite=*/0) == 0;
-  (void)set;
+// CUDA 12's default loads each kernel at its first launch; CUDA_MODULE_LOADING=EAGER loads
+// every kernel of the binary when the context is made (0.3 s more start-up on an H100). The
+// integrator's warm-up wave (WavefrontIntegrator::WarmUp) keeps lazy loading out of the
+// render's time.
+bool LazyModuleLoading() {
+  const char* mode = std::getenv("CUDA_MODULE_LOADING");
+  return mode == nullptr || std::string(mode) != "EAGER";
 }
 
 // The default number of paths in flight: the largest power of two up to 2^25 whose path state
@@ -137,8 +136,7 @@ size_t DefaultPathsFor(size_t freeBytes) {
 
 }  // namespace
 
-CudaBackend::CudaBackend(int device) {
-  PreferEagerModuleLoading();
+CudaBackend::CudaBackend(int device) : lazyLoading_(LazyModuleLoading()) {
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0)
     throw BackendUnavailable("no CUDA device is available for --backend cuda");
@@ -211,18 +209,30 @@ RenderResult RenderCuda(const Scene& scene, const RenderOptions& options,
 bool CudaBackendBuilt() { return true; }
 
 int CudaDeviceCount() {
-  PreferEagerModuleLoading();
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess) return 0;
   return count;
 }
 
+namespace {
+
+// Nothing: its attributes, asked for on the start-up thread, make the driver load this file's
+// module (67 MB of code on sm_90, 75-135 ms to load on an H100) beside the scene's loading
+// instead of at the session's first launch. The kernels themselves still load one by one when
+// first used (the warm-up wave), and the other files' modules (media, denoiser, GPU BVH
+// builder) only for runs that use them.
+__global__ void LoadRenderModuleKernel() {}
+
+}  // namespace
+
 int CudaStartDevice(int localRank) {
   const int count = CudaDeviceCount();
   if (count == 0) return 0;
-  // Makes the device's primary context, which loads every kernel (eager loading); the
+  // Makes the device's primary context (and with eager loading loads every kernel); the
   // session's own cudaSetDevice later finds it ready.
-  if (cudaSetDevice(localRank % count) != cudaSuccess || cudaFree(nullptr) != cudaSuccess) {
+  cudaFuncAttributes attributes;
+  if (cudaSetDevice(localRank % count) != cudaSuccess || cudaFree(nullptr) != cudaSuccess ||
+      cudaFuncGetAttributes(&attributes, LoadRenderModuleKernel) != cudaSuccess) {
     cudaGetLastError();  // the session reports the failure when it starts
   }
   return count;

@@ -5,8 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <string>
 
+#include "src/integrator/render_session.h"
+#include "src/integrator/wave_plan.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 #include "tests/welch.h"
@@ -86,6 +90,53 @@ TEST(BackendAgreementGpu, RayOrderDoesNotChangeTheImage) {
     EXPECT_TRUE(SameImage(a.image, b.image))
         << "compact " << int(compact) << ", sort " << int(sort);
     EXPECT_EQ(a.stats.nodesVisited, b.stats.nodesVisited);
+  }
+}
+
+// --warm-up on the GPU: the discarded wave that loads the kernels (auto: on under CUDA's
+// default lazy loading) leaves the image and the traversal work as they are without it.
+TEST(BackendAgreementGpu, WarmUpDoesNotChangeTheImage) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene =
+      BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 4, 7));
+  RenderOptions off, on, automatic;
+  off.warmUp = Toggle::kOff;
+  on.warmUp = Toggle::kOn;
+  RenderResult a = RenderCuda(scene, off), b = RenderCuda(scene, on);
+  EXPECT_FALSE(a.stats.warmedUp);
+  EXPECT_TRUE(b.stats.warmedUp);
+  EXPECT_GT(b.stats.warmUpMs, 0.0);
+  EXPECT_TRUE(SameImage(a.image, b.image));
+  EXPECT_EQ(a.stats.nodesVisited, b.stats.nodesVisited);
+  EXPECT_EQ(a.stats.shadowRays, b.stats.shadowRays);
+  const char* mode = std::getenv("CUDA_MODULE_LOADING");
+  EXPECT_EQ(RenderCuda(scene, automatic).stats.warmedUp,
+            mode == nullptr || std::string(mode) != "EAGER");
+}
+
+// The image the GPU resolves from its film (ResolveFilmPixel, in doubles) is the one the host
+// resolves from the downloaded film (ResolveFilmImage), float for float, with the feature and
+// half-film channels of a --denoise render.
+TEST(BackendAgreementGpu, TheResolvedImageIsTheSavedFilmsResolved) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene =
+      BuildScene(SeededSceneDesc(SourcePath("scenes/cornell_glass_mirror.json"), 64, 3, 7));
+  for (bool dbl : {false, true}) {
+    RenderOptions o;
+    o.filmDouble = dbl;
+    o.featureBuffers = o.halfFilms = true;
+    auto session = MakeCudaSession(scene, o);
+    session->RenderRange(0, 3);
+    const FilmImage device = session->Image();
+    const FilmImage host = ResolveFilmImage(session->SaveFilm());
+    EXPECT_TRUE(BitIdentical(device.rgb, host.rgb)) << dbl;
+    EXPECT_TRUE(BitIdentical(device.variance, host.variance)) << dbl;
+    EXPECT_TRUE(BitIdentical(device.albedo, host.albedo)) << dbl;
+    EXPECT_TRUE(BitIdentical(device.normal, host.normal)) << dbl;
+    EXPECT_TRUE(BitIdentical(device.depth, host.depth)) << dbl;
+    EXPECT_TRUE(BitIdentical(device.evenRgb, host.evenRgb)) << dbl;
+    EXPECT_EQ(device.samples, host.samples);
+    EXPECT_EQ(device.evenSamples, host.evenSamples);
   }
 }
 

@@ -4,7 +4,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +64,34 @@ TEST(ImageIo, SrgbEncodingOfKnownValues) {
   EXPECT_EQ(LinearToSrgb8(-2.0f), 0);
   EXPECT_EQ(LinearToSrgb8(std::numeric_limits<float>::infinity()), 255);
   EXPECT_EQ(LinearToSrgb8(std::nanf("")), 0);
+}
+
+// The threshold search gives the reference's code (pow, then rounding) for every float: a
+// sweep of every 61st bit pattern from 0 to 1, and wherever two sampled neighbours differ in
+// code, every pattern between them (so each of the 255 steps is checked float by float).
+// Negative values, -0, denormals, NaN and infinities too.
+TEST(ImageIo, SrgbCodeSearchMatchesTheReferenceForEveryFloatNearEachStep) {
+  constexpr uint32_t kStride = 61, kOne = 0x3F800000u;
+  int steps = 0;
+  uint8_t previous = LinearToSrgb8Reference(0.0f);
+  for (uint32_t bits = 0; bits <= kOne; bits += kStride) {
+    const float x = std::bit_cast<float>(bits);
+    const uint8_t code = LinearToSrgb8Reference(x);
+    ASSERT_EQ(LinearToSrgb8(x), code) << x;
+    if (code != previous) {
+      ++steps;
+      for (uint32_t b = bits - kStride + 1; b < bits; ++b) {
+        const float y = std::bit_cast<float>(b);
+        ASSERT_EQ(LinearToSrgb8(y), LinearToSrgb8Reference(y)) << y;
+      }
+    }
+    previous = code;
+  }
+  EXPECT_EQ(steps, 255);
+  for (float x : {-0.0f, -1e-30f, std::numeric_limits<float>::denorm_min(), 1e-40f, 1.0f,
+                  std::nextafter(1.0f, 0.0f), 1e30f, -std::numeric_limits<float>::infinity(),
+                  std::numeric_limits<float>::infinity(), std::nanf("")})
+    EXPECT_EQ(LinearToSrgb8(x), LinearToSrgb8Reference(x)) << x;
 }
 
 TEST(ImageIo, PngRoundTripIsSrgbEncodedTopToBottom) {

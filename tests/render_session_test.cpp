@@ -4,6 +4,7 @@
 
 #include "src/distributed/film_merge.h"
 #include "src/integrator/render_session.h"
+#include "src/integrator/wave_plan.h"
 #include "tests/render_test_util.h"
 #include "tests/test_util.h"
 
@@ -120,6 +121,36 @@ TEST(RenderSession, ASnapshotKeepsTheFilmWhileTheNextRangeRenders) {
   session->SaveSnapshotInto(saved);
   EXPECT_TRUE(SameFilm(saved, first));
   EXPECT_FALSE(SameFilm(session->SaveFilm(), first));
+}
+
+// The image resolved on the backend (ResolveFilmPixel) is the saved film's resolved on the host
+// (ResolveFilmImage), float for float: float and double films, with and without the feature
+// and half-film channels, after a range that leaves some pixels without samples (a crop of
+// an adaptive render is not needed: pixels of count 0 and 1 come from the ranges here).
+TEST(RenderSession, TheBackendsResolvedImageIsTheSavedFilmsResolved) {
+  Scene scene = GlassMirror(3);
+  for (int variant = 0; variant < 4; ++variant) {
+    RenderOptions o = TwoThreads();
+    o.filmDouble = variant == 1 || variant == 3;
+    o.featureBuffers = variant >= 2;
+    o.halfFilms = variant == 3;
+    auto session = MakeCpuSession(scene, o);
+    for (auto [begin, end] : {std::pair{0u, 0u}, std::pair{0u, 1u}, std::pair{1u, 3u}}) {
+      session->RenderRange(begin, end);
+      const FilmImage backend = session->Image();
+      const FilmImage host = ResolveFilmImage(session->SaveFilm());
+      EXPECT_TRUE(BitIdentical(backend.rgb, host.rgb)) << variant << " to " << end;
+      EXPECT_TRUE(BitIdentical(backend.variance, host.variance)) << variant << " to " << end;
+      EXPECT_EQ(backend.samples, host.samples);
+      EXPECT_TRUE(BitIdentical(backend.albedo, host.albedo)) << variant;
+      EXPECT_TRUE(BitIdentical(backend.normal, host.normal)) << variant;
+      EXPECT_TRUE(BitIdentical(backend.depth, host.depth)) << variant;
+      EXPECT_TRUE(BitIdentical(backend.evenRgb, host.evenRgb)) << variant;
+      EXPECT_EQ(backend.evenSamples, host.evenSamples);
+      EXPECT_EQ(backend.albedo.empty(), !o.featureBuffers);
+      EXPECT_EQ(backend.evenRgb.empty(), !o.halfFilms);
+    }
+  }
 }
 
 TEST(RenderSession, AFilmOfAnotherSizeIsRefused) {

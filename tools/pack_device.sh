@@ -10,7 +10,14 @@ cp "$BUILD/pathtracer" "$BUILD/tests/pt_tests" .device/bin/
 for tool in make_mesh_glb make_sky make_vdb instance_bench image_compare; do
   [ -f "$BUILD/$tool" ] && cp "$BUILD/$tool" .device/bin/
 done
-for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" | awk '/=>/ {print $3}' | sort -u); do
+# The OpenVDB module the binaries load at the first .vdb file (src/io/vdb_loader.cpp).
+VDB_MODULE=()
+if [ -f "$BUILD/libpt_vdb.so" ]; then
+  cp "$BUILD/libpt_vdb.so" .device/bin/
+  VDB_MODULE=("$BUILD/libpt_vdb.so")
+fi
+for lib in $(ldd "$BUILD/pathtracer" "$BUILD/tests/pt_tests" "${VDB_MODULE[@]}" |
+             awk '/=>/ {print $3}' | sort -u); do
   # Every Debian library but the C/C++ runtime (the GPU machine's own) and Open MPI's
   # (pack_mpi.sh carries those): glTF, image, Draco, meshopt, WebP, OpenVDB and their needs.
   case "$(basename "$lib")" in

@@ -244,6 +244,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.primPool = ParseChoice<Toggle>(
              s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
        }},
+      {"--warm-up",
+       [](CliOptions& o, ValueSource& s) {
+         o.warmUp = ParseChoice<Toggle>(
+             s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

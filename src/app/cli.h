@@ -57,6 +57,7 @@ struct CliOptions {
   TriangleTest triangleTest = TriangleTest::kWatertight;
   Toggle rayOrder = Toggle::kAuto;
   Toggle primPool = Toggle::kAuto;
+  Toggle warmUp = Toggle::kAuto;
   std::string envPath;                // --env: replaces the scene's environment (kEnvNone: removes)
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;

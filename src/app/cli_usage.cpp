@@ -71,6 +71,9 @@ Backend and performance
                            (default auto)
   --prim-pool on|off|auto  GPU, wide BVH: the lanes of a warp test their leaves' primitives
                            together (default auto: on for scenes of 131,072+ primitives)
+  --warm-up on|off|auto    trace a short discarded wave before the render so that kernels
+                           load outside its time (default auto: on the GPU when kernels load
+                           lazily, CUDA's default)
   --sort off|material|queues|auto
                            shading order: as queued; ordered by material (one kernel); or
                            ordered and one kernel per material type and texturing (queues);

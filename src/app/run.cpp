@@ -95,12 +95,14 @@ std::vector<std::string> WriteResults(const CliOptions& cli, const Scene& scene,
 }
 
 // The render job's part of the timeline cut into the session's start-up (the device's), its
-// upload and render, the freeing of the session, and the rest (film readback and resolve).
+// upload, kernel warm-up and render, the freeing of the session, and the rest (film readback
+// and resolve).
 void SplitJobTime(const JobOutcome& outcome, RunTimeline& timeline) {
   const RenderStats& stats = outcome.result.stats;
   timeline.Split("render_job",
                  {{"device_start", outcome.sessionMs}, {"upload", stats.uploadMs},
-                  {"render", stats.renderMs}, {"teardown", outcome.teardownMs}},
+                  {"warm_up", stats.warmUpMs}, {"render", stats.renderMs},
+                  {"teardown", outcome.teardownMs}},
                  "film_readback");
   if (outcome.firstPixel) timeline.SetFirstPixel(*outcome.firstPixel);
 }

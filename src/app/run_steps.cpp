@@ -165,6 +165,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.triangleTest = cli.triangleTest;
   options.rayOrder = cli.rayOrder;
   options.primPool = cli.primPool;
+  options.warmUp = cli.warmUp;
   options.envSampling = cli.envSampling;
   options.lightSampler = cli.lightSampler;
   options.transmittance = cli.transmittance;

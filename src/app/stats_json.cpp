@@ -187,6 +187,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"compact", stats.compactUsed},
       {"ray_order", stats.rayOrderUsed},
       {"prim_pool", stats.primPoolUsed},
+      {"warm_up", stats.warmedUp},
       {"path_state_bytes_per_path", stats.pathStateBytesPerPath},
       {"paths_in_flight", stats.pathsInFlight},
       {"memory", MemoryJson(stats, run)},

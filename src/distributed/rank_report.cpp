@@ -12,6 +12,8 @@ template <typename Stats, typename F>
 void StatsFields(Stats& s, F f) {
   f("render_ms", s.renderMs);
   f("upload_ms", s.uploadMs);
+  f("warm_up_ms", s.warmUpMs);
+  f("warm_up", s.warmedUp);
   f("samples", s.samples);
   f("camera_rays", s.cameraRays);
   f("extension_rays", s.extensionRays);
@@ -78,6 +80,8 @@ RankReport RankReportFromJson(const Json& j) {
 void AddRenderStats(RenderStats& a, const RenderStats& b) {
   a.renderMs += b.renderMs;
   a.uploadMs += b.uploadMs;
+  a.warmUpMs += b.warmUpMs;
+  a.warmedUp = a.warmedUp || b.warmedUp;
   a.samples += b.samples;
   a.cameraRays += b.cameraRays;
   a.extensionRays += b.extensionRays;

@@ -36,6 +36,40 @@ PT_HDI void ClearFilmPixel(const FilmView& f, uint32_t i) {
   }
 }
 
+// The film resolved to an image's planes (floats, 3 per pixel but depth): null where the film
+// keeps no such channel.
+struct ImageView {
+  float* rgb;
+  float* variance;
+  float* albedo;
+  float* normal;
+  float* depth;
+  float* evenRgb;
+};
+
+// A pixel of the film as an image (ResolveFilm's stage body): the mean, the unbiased sample
+// variance, the feature means and the even half's mean, by the same double operations as
+// ResolveFilmImage on a saved film (which widens the float film to doubles), so both give the
+// same floats. Pixels without samples are zero.
+PT_HDI void ResolveFilmPixel(const FilmView& f, const ImageView& out, uint32_t i) {
+  const double k = double(f.sampleCount[i]);
+  const uint32_t even = f.evenSum && k != 0.0 ? f.evenCount[i] : 0u;
+  for (int c = 0; c < 3; ++c) {
+    const double mean = f.meanDouble ? f.meanDouble[i][c] : double(f.mean[i][c]);
+    const double m2 = f.meanDouble ? f.m2Double[i][c] : double(f.m2[i][c]);
+    const double variance = k > 1.0 ? m2 / (k - 1.0) : 0.0;
+    out.rgb[3 * i + c] = k != 0.0 ? float(mean) : 0.0f;
+    out.variance[3 * i + c] = float(0.0 < variance ? variance : 0.0);  // std::max(0, v)'s
+    if (out.albedo) {
+      out.albedo[3 * i + c] = k != 0.0 ? float(double(f.albedoSum[i][c]) / k) : 0.0f;
+      out.normal[3 * i + c] = k != 0.0 ? float(double(f.normalSum[i][c]) / k) : 0.0f;
+    }
+    if (out.evenRgb)
+      out.evenRgb[3 * i + c] = even > 0 ? float(double(f.evenSum[i][c]) / double(even)) : 0.0f;
+  }
+  if (out.depth) out.depth[i] = k != 0.0 ? float(double(f.depthSum[i]) / k) : 0.0f;
+}
+
 // A pixel of one film copied into another of the same channels (SnapshotFilm's stage body).
 PT_HDI void CopyFilmPixel(const FilmView& to, const FilmView& from, uint32_t i) {
   if (from.mean) {

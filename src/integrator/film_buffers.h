@@ -9,6 +9,7 @@
 #include "src/core/parallel_ranges.h"
 #include "src/integrator/film.h"
 #include "src/integrator/render_api.h"
+#include "src/integrator/stage_id.h"
 
 namespace pt {
 
@@ -51,6 +52,7 @@ class FilmBuffers {
                     normal_.Data(),  depth_.Data(),  evenSum_.Data(),    evenCount_.Data()};
   }
   const Buffer<uint32_t>& Counts() const { return count_; }
+  const Buffer<uint32_t>& EvenCounts() const { return evenCount_; }
 
   // Into f's own arrays (a film of the same size saves with no fresh pages to fault in).
   void SaveInto(FilmState& f, uint32_t width, uint32_t height) {
@@ -135,6 +137,51 @@ class FilmBuffers {
   Buffer<float> lumMean_, lumM2_, depth_;
   Buffer<uint32_t> count_, evenCount_;
   std::vector<vec3> hostMean_, hostM2_;
+};
+
+// The film resolved on the backend (ResolveFilmPixel) and the image's planes downloaded: a
+// 1080p image's rgb and variance are 50 MB, the film's float statistics widened to doubles
+// on the host were 150 MB more to copy and read (issue 28's time to image). Kept between
+// calls: previews resolve again and again.
+template <typename Backend>
+class ResolvedImage {
+ public:
+  template <typename T>
+  using Buffer = typename Backend::template Buffer<T>;
+
+  FilmImage Resolve(Backend& backend, const FilmView& film, const FilmBuffers<Backend>& arrays,
+                    uint32_t width, uint32_t height) {
+    const size_t n = size_t(width) * height;
+    const bool features = film.albedoSum != nullptr, halves = film.evenSum != nullptr;
+    for (Buffer<float>* b : {&rgb_, &variance_}) b->Resize(3 * n);
+    for (Buffer<float>* b : {&albedo_, &normal_}) b->Resize(features ? 3 * n : 0);
+    depth_.Resize(features ? n : 0);
+    evenRgb_.Resize(halves ? 3 * n : 0);
+    const ImageView out{rgb_.Data(),    variance_.Data(), features ? albedo_.Data() : nullptr,
+                        normal_.Data(), depth_.Data(),    halves ? evenRgb_.Data() : nullptr};
+    backend.ParallelFor(Stage::kAccumulate, uint32_t(n),
+                        [=] PT_HD(uint32_t i) { ResolveFilmPixel(film, out, i); });
+    backend.Synchronize();
+    FilmImage img;
+    img.width = int(width);
+    img.height = int(height);
+    rgb_.Download(img.rgb);
+    variance_.Download(img.variance);
+    arrays.Counts().Download(img.samples);
+    if (features) {
+      albedo_.Download(img.albedo);
+      normal_.Download(img.normal);
+      depth_.Download(img.depth);
+    }
+    if (halves) {
+      evenRgb_.Download(img.evenRgb);
+      arrays.EvenCounts().Download(img.evenSamples);
+    }
+    return img;
+  }
+
+ private:
+  Buffer<float> rgb_, variance_, albedo_, normal_, depth_, evenRgb_;
 };
 
 }  // namespace pt

@@ -44,6 +44,7 @@ struct RenderOptions {
   SortMethod sortMethod = SortMethod::kAuto;
   Toggle rayOrder = Toggle::kAuto;   // sort each bounce's rays before intersect (ray_order.h)
   Toggle primPool = Toggle::kAuto;   // pool a warp's leaf tests (traverse_wide_pooled.h)
+  Toggle warmUp = Toggle::kAuto;     // a discarded wave loads the kernels (auto: when lazy)
   IntegratorMode integrator = IntegratorMode::kMis;
   CropWindow crop;
   double timeLimitSeconds = 0.0;     // <= 0: none
@@ -108,6 +109,8 @@ struct RenderStats {
   std::string backend, device;
   int threads = 0;
   double renderMs = 0.0, uploadMs = 0.0;
+  double warmUpMs = 0.0;  // the discarded wave that loaded the kernels (not in renderMs)
+  bool warmedUp = false;
   StageTimes stages;  // milliseconds
   uint64_t samples = 0;
   double sppMean = 0.0;

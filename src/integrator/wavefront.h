@@ -356,11 +356,11 @@ class WavefrontIntegrator {
     });
   }
 
-  // The film as an image: mean and per-channel sample variance per pixel. Saved into a film
-  // kept between calls: previews resolve the film again and again.
+  // The film as an image: mean and per-channel sample variance per pixel, resolved on the
+  // backend (ResolveFilmImage's values for the saved film).
   FilmImage ResolveFilm() {
-    SaveFilmInto(resolveFilm_);
-    return ResolveFilmImage(resolveFilm_);
+    EnsureAllocated();
+    return resolved_.Resolve(backend_, film_, filmArrays_, plan_.cropWidth, plan_.cropHeight);
   }
 
   FilmState SaveFilm() {
@@ -418,6 +418,7 @@ class WavefrontIntegrator {
     if (!allocated_) Allocate();
   }
   void Allocate();
+  void WarmUp();
   void AllocatePaths(size_t n);
   void AllocateFilm(size_t pixels);
   bool StopRequested();
@@ -452,7 +453,7 @@ class WavefrontIntegrator {
   PathState pathState_{};
   FilmBuffers<Backend> filmArrays_, snapshot_;  // the film; SnapshotFilm's copy
   Buffer<uint32_t> activePixels_, resumePixels_;
-  FilmState resolveFilm_;                 // ResolveFilm's, kept
+  ResolvedImage<Backend> resolved_;       // ResolveFilm's planes, kept
   FilmView film_{};
   AdaptiveSettings adaptive_;
   FeatureClass featureClass_ = FeatureClass::kGeneral;

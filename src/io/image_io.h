@@ -28,9 +28,13 @@ std::string LowerExtension(const std::string& path);
 // --spp-map: samples per pixel as a heat map (PNG) or raw counts (EXR, PFM).
 void WriteSppMap(const std::string& path, const FilmImage& image);
 
-// The sRGB OETF on one linear value, and its 8-bit code after clamping to [0, 1] (NaN -> 0).
+// The sRGB OETF on one linear value, and its 8-bit code after clamping to [0, 1] (NaN -> 0):
+// LinearToSrgb8 by a search of the code's thresholds, the same code as the reference's
+// rounding of LinearToSrgb (tests/image_io_test.cpp checks it over every float's neighbourhood
+// of each threshold and a dense sweep).
 float LinearToSrgb(float linear);
 uint8_t LinearToSrgb8(float linear);
+uint8_t LinearToSrgb8Reference(float linear);
 
 // Writes image.rgb in the format of the extension. With withExtras, an EXR also holds the
 // per-pixel variance (variance.R/G/B) and sample-count (samples) channels when the image has

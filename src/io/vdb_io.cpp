@@ -1,3 +1,6 @@
+// The OpenVDB module (libpt_vdb.so): loaded by src/io/vdb_loader.cpp at the first .vdb file
+// a run reads or writes, so that runs without one never load OpenVDB. Its two entry points
+// have C names for dlsym; errors leave them as VdbError exceptions.
 #include "src/io/vdb_io.h"
 
 #include <algorithm>
@@ -73,9 +76,9 @@ void CopyTiles(const openvdb::FloatGrid& vdb, SparseGrid& grid,
 
 }  // namespace
 
-bool VdbSupported() { return true; }
+namespace {
 
-SparseGrid ReadVdbGrid(const std::string& path, const std::string& gridName) {
+SparseGrid ReadGrid(const std::string& path, const std::string& gridName) {
   InitializeOpenVdb();
   openvdb::GridBase::Ptr base;
   try {
@@ -105,8 +108,6 @@ SparseGrid ReadVdbGrid(const std::string& path, const std::string& gridName) {
   return grid;
 }
 
-namespace {
-
 openvdb::FloatGrid::Ptr ToVdb(const std::string& gridName, const SparseGrid& grid) {
   openvdb::FloatGrid::Ptr vdb = openvdb::FloatGrid::create(0.0f);
   vdb->setName(gridName);
@@ -122,10 +123,8 @@ openvdb::FloatGrid::Ptr ToVdb(const std::string& gridName, const SparseGrid& gri
   return vdb;
 }
 
-}  // namespace
-
-void WriteVdbGrids(const std::string& path,
-                   const std::vector<std::pair<std::string, const SparseGrid*>>& grids) {
+void WriteGrids(const std::string& path,
+                const std::vector<std::pair<std::string, const SparseGrid*>>& grids) {
   InitializeOpenVdb();
   openvdb::GridPtrVec vdbs;
   for (const auto& [name, grid] : grids) vdbs.push_back(ToVdb(name, *grid));
@@ -138,4 +137,16 @@ void WriteVdbGrids(const std::string& path,
   }
 }
 
+}  // namespace
 }  // namespace pt
+
+extern "C" __attribute__((visibility("default"))) void PtVdbReadGrid(
+    const std::string& path, const std::string& gridName, pt::SparseGrid* out) {
+  *out = pt::ReadGrid(path, gridName);
+}
+
+extern "C" __attribute__((visibility("default"))) void PtVdbWriteGrids(
+    const std::string& path,
+    const std::vector<std::pair<std::string, const pt::SparseGrid*>>& grids) {
+  pt::WriteGrids(path, grids);
+}

@@ -1,6 +1,7 @@
 #include "src/scene/scene_checks.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace pt {
@@ -195,14 +196,19 @@ std::string BlackImageCause(const Scene& scene, float brightest,
 
 std::string BlackImageWarning(const Scene& scene, const std::vector<float>& rgb,
                               const std::string& environmentRemovedBy) {
-  size_t pixels = rgb.size() / 3, black = 0;
+  const size_t pixels = rgb.size() / 3;
+  // Stops at the first pixels that rule the warning out: a lit image is not read to its end
+  // (the whole of a 1080p image took ~10 ms on the way to the output).
+  const size_t litAllowed = pixels - size_t(std::ceil(kBlackImageFraction * double(pixels)));
+  size_t black = 0, lit = 0;
   float brightest = 0.0f;
-  for (size_t i = 0; i < pixels; ++i) {
+  for (size_t i = 0; i < pixels && lit <= litAllowed; ++i) {
     vec3 c(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
     if (MaxComponent(c) < kBlackPixelRadiance) ++black;
-    if (Luminance(c) > brightest) brightest = Luminance(c);  // NaN pixels are skipped
+    else ++lit;
+    brightest = std::max(brightest, Luminance(c));  // NaN pixels are skipped
   }
-  if (pixels == 0 || double(black) < kBlackImageFraction * double(pixels)) return "";
+  if (pixels == 0 || lit > litAllowed) return "";
   return "the image is nearly black: " + BlackShareText(double(black) / double(pixels)) +
          " of its pixels are black in 8-bit sRGB; likely cause: " +
          BlackImageCause(scene, brightest, environmentRemovedBy);
