@@ -71,7 +71,7 @@ class DenoiseRunner {
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
     size_t plane = size_t(d.stride) * d.rows;
-    constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + 2 * 2 * kDenoiseGroup +
+    constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + 2 * kDenoiseGroup +
                                kDenoiseCandidates * (2 * 4 + 1);
     if (store_.Size() != plane * kPlanes) {
       store_.Resize(plane * kPlanes);
@@ -87,7 +87,6 @@ class DenoiseRunner {
       for (int c = 0; c < 3; ++c) d.half[h][c] = take();
       for (int c = 0; c < 3; ++c) d.halfVar[h][c] = take();
       for (int g = 0; g < kDenoiseGroup; ++g) d.dist[g][h] = take();
-      for (int g = 0; g < kDenoiseGroup; ++g) d.rowDist[g][h] = take();
     }
     for (int k = 0; k < kDenoiseCandidates; ++k) {
       for (int h = 0; h < kDenoiseHalves; ++h)
@@ -124,8 +123,8 @@ class DenoiseRunner {
                          [=] PT_HD(uint32_t i) { DenoiseFeatureScalePixel(d, tau, i); });
     for (int k = 0; k < kDenoiseCandidates; ++k) {
       const DenoiseCandidate& c = s.candidates[k < s.candidateCount ? k : 0];
-      bandwidths_.color[k] = kDenoiseLog2e / (c.colorK * c.colorK);
-      bandwidths_.feature[k] = kDenoiseLog2e / (c.featureK * c.featureK);
+      bandwidths_.color[k] = 1.0f / (c.colorK * c.colorK);
+      bandwidths_.feature[k] = 1.0f / (c.featureK * c.featureK);
     }
   }
 
@@ -150,16 +149,10 @@ class DenoiseRunner {
     }
   }
 
-  // The patches' row sums over the distances' rows, then the weights and sums.
   template <int kPatch, int kCount>
   void Accumulate(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset) {
     DenoisePlanes d = planes_;
     DenoiseBandwidths k = bandwidths_;
-    size_t rowFirst = size_t(r0 + d.padY - kPatch) * d.stride;
-    backend_.ParallelFor(Stage::kAccumulate, (r1 - r0 + 2 * kPatch) * d.stride,
-                         [=] PT_HD(uint32_t i) {
-      DenoisePatchRowPixel<kPatch>(d, rowFirst + size_t(i));
-    });
     size_t first = size_t(r0 + d.padY) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0) * d.stride, [=] PT_HD(uint32_t i) {
       DenoiseAccumulatePixel<kPatch, kCount>(d, k, offset, first + size_t(i));

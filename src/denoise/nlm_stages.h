@@ -46,8 +46,6 @@ struct DenoisePlanes {
   float* featureScale[3];
   // One group of offsets' pixel-wise NL-means distances, per offset and guide.
   float* dist[kDenoiseGroup][kDenoiseHalves];
-  // Their sums over a patch's row (separable patch sums: the accumulate pass adds the rows).
-  float* rowDist[kDenoiseGroup][kDenoiseHalves];
   // Per candidate and filtered half: weighted colour differences (RGB) and the weight sum.
   float* sum[kDenoiseCandidates][kDenoiseHalves][4];
   float* error[kDenoiseCandidates];  // per candidate, its SURE error estimate
@@ -67,25 +65,23 @@ struct DenoiseInput {
   const float* depth;
 };
 
-// 2^t for t <= 0 (larger t are not asked for; the weights' e^x is 2^(x log2 e), log2 e taken
-// into the bandwidths), relative error about 3e-6 (a weight's: far below what the weights can
-// tell apart): a power of two times a degree-4 minimax polynomial for 2^f on [-1/2, 1/2]
-// (Cephes' degree 6 took four operations more; 2^0 stays exactly 1), the power rounded to
-// nearest by adding and taking away 1.5 * 2^23. Plain arithmetic and selects of computed
-// values, which the CPU vectorises (std::exp and floorf are calls there, and GCC will not turn
-// a branch that computes into a select), evaluated alike by both backends. Below 2^-43.3 (e^-30)
-// it is 0: a weight that small changes nothing, and its products would be denormals (slow on a
-// CPU).
-constexpr float kDenoiseLog2e = 1.44269504088896341f, kDenoiseExp2Min = -30.0f * kDenoiseLog2e;
-PT_HDI float DenoiseExp2(float x) {
+// e^x for x <= 0 (larger x are not asked for), relative error about 2e-7: 2^(x log2 e) as a
+// power of two times Cephes' polynomial for 2^f on [-1/2, 1/2], the power rounded to nearest
+// by adding and taking away 1.5 * 2^23. Plain arithmetic and selects of computed values, which
+// the CPU vectorises (std::exp and floorf are calls there, and GCC will not turn a branch that
+// computes into a select), evaluated alike by both backends. Below e^-30 it is 0: a weight that
+// small changes nothing, and its products would be denormals (slow on a CPU).
+PT_HDI float DenoiseExp(float x) {
   constexpr float kRound = 12582912.0f;
-  float t = x > kDenoiseExp2Min ? x : kDenoiseExp2Min;
+  float t = (x > -30.0f ? x : -30.0f) * 1.44269504088896341f;
   float n = (t + kRound) - kRound;
   float f = t - n;
-  float p = 9.582853221e-3f;
-  p = p * f + 5.590642621e-2f;
-  p = p * f + 2.402409862e-1f;
-  p = p * f + 6.931241932e-1f;
+  float p = 1.535336188319500e-4f;
+  p = p * f + 1.339887440266574e-3f;
+  p = p * f + 9.618437357674640e-3f;
+  p = p * f + 5.550332471162809e-2f;
+  p = p * f + 2.402264791363012e-1f;
+  p = p * f + 6.931472028550421e-1f;
   p = p * f + 1.0f;
   int32_t bits = (int32_t(n) + 127) * (1 << 23);
 #if PT_IS_GPU_CODE
@@ -95,7 +91,7 @@ PT_HDI float DenoiseExp2(float x) {
   __builtin_memcpy(&scale, &bits, sizeof(scale));
 #endif
   float value = p * scale;
-  return x < kDenoiseExp2Min ? 0.0f : value;
+  return x < -30.0f ? 0.0f : value;
 }
 
 // Inputs as the passes take them: non-finite values as 0, magnitudes at most `limit` (colour
@@ -214,28 +210,13 @@ PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, const DenoiseOffsets& o
   }
 }
 
-// Pass 3b, over the same pixels: each distance summed over the patch's row around p. The
-// accumulate pass then adds 2 kPatch + 1 rows instead of (2 kPatch + 1)^2 pixels per guide and
-// offset (it is the busiest pass, and its loads cost it most).
+// The mean of a guide's pixel distances over the patch around p.
 template <int kPatch>
-PT_HDI void DenoisePatchRowPixel(const DenoisePlanes& d, size_t p) {
-  PT_DENOISE_UNROLL
-  for (int g = 0; g < kDenoiseGroup; ++g) {
-    PT_DENOISE_UNROLL
-    for (int h = 0; h < kDenoiseHalves; ++h) {
-      float s = 0.0f;
-      PT_DENOISE_UNROLL
-      for (int dx = -kPatch; dx <= kPatch; ++dx) s += d.dist[g][h][ptrdiff_t(p) + dx];
-      d.rowDist[g][h][p] = s;
-    }
-  }
-}
-
-// The mean of a guide's pixel distances over the patch around p, from its rows' sums.
-template <int kPatch>
-PT_HDI float PatchDistance(const float* rowDist, size_t p, ptrdiff_t stride) {
+PT_HDI float PatchDistance(const float* dist, size_t p, ptrdiff_t stride) {
   float s = 0.0f;
-  for (int dy = -kPatch; dy <= kPatch; ++dy) s += rowDist[ptrdiff_t(p) + dy * stride];
+  for (int dy = -kPatch; dy <= kPatch; ++dy) {
+    for (int dx = -kPatch; dx <= kPatch; ++dx) s += dist[ptrdiff_t(p) + dy * stride + dx];
+  }
   return s * (1.0f / float((2 * kPatch + 1) * (2 * kPatch + 1)));
 }
 
@@ -261,7 +242,7 @@ PT_HDI void AddNeighbour(float* sum, float* const* mean, const float* own, size_
   sum[3] += w;
 }
 
-// The candidates' bandwidths as the passes use them: log2(e) / k^2 (colour, features).
+// The candidates' bandwidths as the passes use them: 1 / k^2 (colour, features).
 struct DenoiseBandwidths {
   float color[kDenoiseCandidates];
   float feature[kDenoiseCandidates];
@@ -270,9 +251,7 @@ struct DenoiseBandwidths {
 // Pass 4, per group of offsets, over the padded pixels of a band of rows: for each offset
 // in turn and each candidate, each half's sums take the neighbour with weight
 // exp(-max(patch distance of the OTHER half, feature distance)), both in that candidate's
-// bandwidths. The same additions in the same order as one offset at a time. An offset past
-// the group's count gets an infinite feature distance, so weight 0 (one select per offset
-// instead of a product per weight).
+// bandwidths. The same additions in the same order as one offset at a time.
 template <int kPatch, int kCount>
 PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidths& k,
                                    const DenoiseOffsets& o, size_t p) {
@@ -291,15 +270,15 @@ PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidt
   PT_DENOISE_UNROLL
   for (int g = 0; g < kDenoiseGroup; ++g) {
     size_t q = size_t(ptrdiff_t(p) + o.Of(g));
+    float valid = g < o.count ? 1.0f : 0.0f;
     float feature = FeatureDistance(d, p, q);
-    feature = g < o.count ? feature : 1e30f;
-    float patch0 = PatchDistance<kPatch>(d.rowDist[g][0], p, stride);
-    float patch1 = PatchDistance<kPatch>(d.rowDist[g][1], p, stride);
+    float patch0 = PatchDistance<kPatch>(d.dist[g][0], p, stride);
+    float patch1 = PatchDistance<kPatch>(d.dist[g][1], p, stride);
     PT_DENOISE_UNROLL
     for (int j = 0; j < kCount; ++j) {
       float f = feature * k.feature[j];
-      float w0 = DenoiseExp2(-DenoiseMax(patch1 * k.color[j], f));
-      float w1 = DenoiseExp2(-DenoiseMax(patch0 * k.color[j], f));
+      float w0 = valid * DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
+      float w1 = valid * DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
       AddNeighbour(sum[j][0], d.half[0], own[0], q, w0);
       AddNeighbour(sum[j][1], d.half[1], own[1], q, w1);
     }
