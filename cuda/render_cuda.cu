@@ -113,7 +113,7 @@ void CudaBackend::OrderByKey(Stage stage, const OrderShape& shape, const OrderAr
 namespace {
 
 // CUDA 12's default loads each kernel at its first launch; CUDA_MODULE_LOADING=EAGER loads
-// every kernel of the binary when the context is made (0.3 s more start-up on an H100). The
+// every kernel of the binary when the context is made (0.1-0.2 s more start-up on an H100). The
 // integrator's warm-up wave (WavefrontIntegrator::WarmUp) keeps lazy loading out of the
 // render's time.
 bool LazyModuleLoading() {

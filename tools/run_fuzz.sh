@@ -38,7 +38,7 @@ FLAGS=(-std=c++20 -O1 -g -fno-omit-frame-pointer
 # own binary format, and a scene naming one still exercises the loader's refusal path.
 mapfile -t SOURCES < <(cd "$ROOT" && ls src/io/*.cpp src/scene/*.cpp src/geometry/*.cpp \
                        src/lights/*.cpp src/materials/*.cpp src/media/*.cpp fuzz/scene_loader_fuzz.cpp \
-                       | grep -v '^src/io/vdb_io\.cpp$')
+                       | grep -v -e '^src/io/vdb_io\.cpp$' -e '^src/io/vdb_loader\.cpp$')
 STAMP="$OUT/obj/.stamp"
 echo "$CXX ${FLAGS[*]}" > "$STAMP.new"
 NEWER_HEADER="$( [ -f "$STAMP" ] && cd "$ROOT" && find src fuzz -name '*.h' -newer "$STAMP" | head -n 1 || true )"

@@ -160,12 +160,12 @@ void WavefrontIntegrator<Backend>::Allocate() {
 }
 
 // A backend that loads each kernel at its first launch (CUDA's default, lazy module loading)
-// would put that loading, 40-65 ms for the bunny box on an H100, into the first wave's stage
-// times. A short wave from the image's middle rows, traced through every bounce and then
-// discarded (film, counters, stage times and ray counts reset), loads the kernels the scene
-// runs before the render's clock starts; loading every kernel at start-up instead
-// (CUDA_MODULE_LOADING=EAGER) cost 0.3 s more. Kernels of paths the short wave did not take
-// still load when first launched. The random streams are keyed per pixel and sample, so
+// would put that loading into the first wave's stage times. A short wave from the image's
+// middle rows, traced through every bounce and then discarded (film, counters, stage times and
+// ray counts reset), loads the kernels the scene runs before the render's clock starts (2-6 ms
+// on an H100); loading every kernel of every module at start-up instead
+// (CUDA_MODULE_LOADING=EAGER) made runs 30-80 ms slower to an image (benchmarks/RESULTS.md).
+// Kernels of paths the short wave did not take still load when first launched. The random streams are keyed per pixel and sample, so
 // the render's samples are those it would have drawn without the warm-up.
 template <typename Backend>
 void WavefrontIntegrator<Backend>::WarmUp() {
