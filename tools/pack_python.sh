@@ -28,6 +28,17 @@ for lib in $(find "$DEST/lib/python3/dist-packages/numpy" -name '*.so' -exec ldd
   esac
 done
 cp "$MODULE" "$DEST/module/"
+# The OpenVDB module, found beside the Python module (src/io/vdb_loader.cpp), and the libraries
+# it loads (OpenVDB, TBB, Imath, Blosc, ...) in module/lib.
+if [ -f "$BUILD/libpt_vdb.so" ]; then
+  cp "$BUILD/libpt_vdb.so" "$DEST/module/"
+  for lib in $(ldd "$BUILD/libpt_vdb.so" | awk '/=>/ {print $3}' | sort -u); do
+    case "$(basename "$lib")" in
+      libc.so*|libm.so*|libpthread*|libdl*|librt*|ld-linux*|libgcc_s*|libstdc++*) ;;
+      *) cp -L "$lib" "$DEST/module/lib/" ;;
+    esac
+  done
+fi
 for lib in $(ldd "$MODULE" | awk '/=>/ {print $3}' | sort -u); do
   case "$(basename "$lib")" in
     libtiny*|libstb*|libminiz*) cp -L "$lib" "$DEST/module/lib/" ;;
