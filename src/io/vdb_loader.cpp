@@ -41,7 +41,8 @@ std::vector<std::string> ModuleCandidates() {
 
 VdbModule LoadModule() {
   VdbModule m;
-  for (const std::string& path : ModuleCandidates()) {
+  const std::vector<std::string> candidates = ModuleCandidates();
+  for (const std::string& path : candidates) {
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
       if (std::filesystem::exists(path)) m.error += std::string(" ") + dlerror() + ";";
@@ -54,8 +55,11 @@ VdbModule LoadModule() {
   }
   m.read = nullptr;
   m.write = nullptr;
+  std::string places;
+  for (const std::string& path : candidates) places += (places.empty() ? "" : ", ") + path;
   m.error = "cannot load the OpenVDB module libpt_vdb.so (it belongs beside the pathtracer "
-            "binary):" + (m.error.empty() ? std::string(" not found") : m.error);
+            "binary; looked for " + places + "):" +
+            (m.error.empty() ? std::string(" not found") : m.error);
   return m;
 }
 
