@@ -47,10 +47,10 @@ struct ImageView {
   float* evenRgb;
 };
 
-// A pixel of the film as an image (ResolveFilm's stage body): the mean, the unbiased sample
-// variance, the feature means and the even half's mean, by the same double operations as
-// ResolveFilmImage on a saved film (which widens the float film to doubles), so both give the
-// same floats. Pixels without samples are zero.
+// A pixel of the film as an image (ResolveFilm's stage body, and ResolveFilmImage's for a
+// saved film, whose float statistics were widened to doubles: widening is exact, so a film
+// resolved on its backend and the same film saved and resolved on the host give the same
+// floats): mean, unbiased sample variance, feature and even-half means (0 without samples).
 PT_HDI void ResolveFilmPixel(const FilmView& f, const ImageView& out, uint32_t i) {
   const double k = double(f.sampleCount[i]);
   const uint32_t even = f.evenSum && k != 0.0 ? f.evenCount[i] : 0u;

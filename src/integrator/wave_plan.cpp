@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "src/core/parallel_ranges.h"
+#include "src/integrator/film.h"
 
 namespace pt {
 
@@ -55,22 +56,20 @@ WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
 
 namespace {
 
-void ResolvePixel(const FilmState& film, size_t i, bool features, bool halves, FilmImage& img) {
-  double k = film.count[i];
-  if (k == 0) return;
-  for (int c = 0; c < 3; ++c) {
-    img.rgb[3 * i + c] = float(film.mean[i][c]);
-    // Unbiased sample variance of the pixel's samples.
-    img.variance[3 * i + c] = k > 1 ? float(std::max(0.0, film.m2[i][c] / (k - 1))) : 0.0f;
-    if (features) {
-      img.albedo[3 * i + c] = float(film.albedoSum[i][c] / k);
-      img.normal[3 * i + c] = float(film.normalSum[i][c] / k);
-    }
-  }
-  if (features) img.depth[i] = float(film.depthSum[i] / k);
-  uint32_t even = halves ? film.evenCount[i] : 0u;
-  for (int c = 0; c < 3 && even > 0; ++c)
-    img.evenRgb[3 * i + c] = float(double(film.evenSum[i][c]) / even);
+// FilmView's pointers are writable (stage bodies accumulate through them); this one is only
+// read. Null for a channel the film does not keep.
+template <typename T>
+T* ReadOnly(const std::vector<T>& v) {
+  return v.empty() ? nullptr : const_cast<T*>(v.data());
+}
+
+// A saved film seen as a double film, for ResolveFilmPixel: the host's resolve and the
+// backends' are one body, so they give the same floats.
+FilmView ReadOnlyView(const FilmState& f) {
+  return FilmView{nullptr,           nullptr,         ReadOnly(f.mean),      ReadOnly(f.m2),
+                  ReadOnly(f.lumMean), ReadOnly(f.lumM2), ReadOnly(f.count), ReadOnly(f.albedoSum),
+                  ReadOnly(f.normalSum), ReadOnly(f.depthSum), ReadOnly(f.evenSum),
+                  ReadOnly(f.evenCount)};
 }
 
 }  // namespace
@@ -96,8 +95,14 @@ FilmImage ResolveFilmImage(const FilmState& film) {
     img.evenRgb.assign(3 * n, 0.0f);
     img.evenSamples = film.evenCount;
   }
+  const FilmView view = ReadOnlyView(film);
+  const ImageView out{img.rgb.data(),    img.variance.data(),
+                      features ? img.albedo.data() : nullptr,
+                      features ? img.normal.data() : nullptr,
+                      features ? img.depth.data() : nullptr,
+                      halves ? img.evenRgb.data() : nullptr};
   ForRangesOnThreads(n, 0, size_t(1) << 16, [&](size_t lo, size_t hi) {
-    for (size_t i = lo; i < hi; ++i) ResolvePixel(film, i, features, halves, img);
+    for (size_t i = lo; i < hi; ++i) ResolveFilmPixel(view, out, uint32_t(i));
   });
   return img;
 }

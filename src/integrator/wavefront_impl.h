@@ -165,8 +165,9 @@ void WavefrontIntegrator<Backend>::Allocate() {
 // ray counts reset), loads the kernels the scene runs before the render's clock starts (2-6 ms
 // on an H100); loading every kernel of every module at start-up instead
 // (CUDA_MODULE_LOADING=EAGER) made runs 30-80 ms slower to an image (benchmarks/RESULTS.md).
-// Kernels of paths the short wave did not take still load when first launched. The random streams are keyed per pixel and sample, so
-// the render's samples are those it would have drawn without the warm-up.
+// Kernels of paths the short wave did not take still load when first launched. The random
+// streams are keyed per pixel and sample, so the render's samples are those it would have
+// drawn without the warm-up.
 template <typename Backend>
 void WavefrontIntegrator<Backend>::WarmUp() {
   const bool wanted = options_.warmUp == Toggle::kAuto ? backend_.LoadsKernelsOnFirstUse()
