@@ -10,6 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "src/core/prefault.h"
 #include "src/io/mesh_common.h"
 
 namespace pt {
@@ -119,6 +120,38 @@ TEST(MeshBatch, MaterialOverrideAndSingleTriangle) {
   EXPECT_EQ(b.skippedDegenerateTriangles, 1);
   EXPECT_EQ(b.triangleMaterials, (std::vector<uint32_t>{2, 2}));
   ExpectSameScene(a, b);
+}
+
+// Room reserved ahead (a scene placing one file again and again) changes no value: the batch
+// writes into capacity paged in by ReserveOnThreads.
+TEST(MeshBatch, ReservedArraysGiveTheSameScene) {
+  constexpr size_t kCount = 70000;
+  std::vector<TriangleVertices> tris = RandomTriangles(kCount, 13);
+  SceneDesc a, b;
+  MeshSink inOrder(a, Transform(2), -1, "in order"), batched(b, Transform(2), -1, "batch");
+  VertexPresence all{true, true, true, true, true};
+  AddBoth(inOrder, batched, tris, 0, 10, all, 1);
+  ReserveTriangles(b, 3 * kCount);  // the optional arrays exist now: they are reserved too
+  EXPECT_GE(b.triangles.capacity(), 3 * kCount);
+  EXPECT_GE(b.triangleTangents.capacity(), 3 * kCount);
+  AddBoth(inOrder, batched, tris, 10, kCount, all, 2);
+  AddBoth(inOrder, batched, tris, 0, kCount, all, 3);
+  ExpectSameScene(a, b);
+}
+
+TEST(Prefault, KeepsContentsAndReserves) {
+  std::vector<uint64_t> v(1000);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = i * 2654435761u;
+  ReserveOnThreads(v, size_t(3) << 20, 2);  // 24 MiB: paged in on two threads
+  ASSERT_GE(v.capacity(), size_t(3) << 20);
+  ASSERT_EQ(v.size(), 1000u);
+  for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], i * 2654435761u);
+  v.resize(size_t(3) << 20);  // zeros over the paged-in capacity
+  EXPECT_EQ(v.back(), 0u);
+  ReserveOnThreads(v, 10);  // never shrinks
+  EXPECT_EQ(v.size(), size_t(3) << 20);
+  PrefaultOnThreads(nullptr, 0);  // empty spans and spans under a page are left alone
+  PrefaultOnThreads(v.data(), 1);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "src/core/parallel_ranges.h"
+#include "src/core/prefault.h"
 #include "src/materials/texture.h"
 #include "src/materials/texture_pyramid.h"
 #include "src/scene/instances.h"
@@ -29,9 +30,21 @@ bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2) {
   if (!(lengthSquared > 0.0f) || !std::isfinite(lengthSquared)) return true;
   // Exactly collinear vertices can leave float rounding noise; in double the edges are exact
   // and the cross product of collinear ones is ~1e-16 relative, far below this bound.
+  // |e1 x e2| > 1e-10 |e1| |e2|, squared (no square roots: a big scene loads this per triangle;
+  // float coordinates keep every square far inside double's range).
   glm::dvec3 e1 = glm::dvec3(p1) - glm::dvec3(p0), e2 = glm::dvec3(p2) - glm::dvec3(p0);
-  double area2 = glm::length(glm::cross(e1, e2));
-  return !(area2 > 1e-10 * glm::length(e1) * glm::length(e2));
+  glm::dvec3 c = glm::cross(e1, e2);
+  return !(glm::dot(c, c) > 1e-20 * glm::dot(e1, e1) * glm::dot(e2, e2));
+}
+
+void ReserveTriangles(SceneDesc& scene, size_t total) {
+  ReserveOnThreads(scene.triangles, total);
+  ReserveOnThreads(scene.triangleNormals, total);
+  ReserveOnThreads(scene.triangleMaterials, total);
+  if (!scene.triangleUvs.empty()) ReserveOnThreads(scene.triangleUvs, total);
+  if (!scene.triangleUvs1.empty()) ReserveOnThreads(scene.triangleUvs1, total);
+  if (!scene.triangleTangents.empty()) ReserveOnThreads(scene.triangleTangents, total);
+  if (!scene.triangleColors.empty()) ReserveOnThreads(scene.triangleColors, total);
 }
 
 MeshSink::MeshSink(SceneDesc& scene, const glm::dmat4& objectToWorld, int64_t materialOverride,
@@ -115,7 +128,7 @@ void GrowOptional(std::vector<T>& all, size_t base, size_t count, bool has, T fi
 const TriangleColors kWhiteColors{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
 
 // Primitives of fewer triangles per thread stay on one thread.
-constexpr size_t kMinBatchPerThread = 1 << 14;
+constexpr size_t kMinBatchPerThread = 1 << 12;
 
 // Vertices 1 and 2 of an optional per-vertex array swapped into `out` (null stays null).
 template <typename T>
@@ -236,22 +249,19 @@ VertexAttributes AttributesOf(const TriangleVertices& v, const VertexPresence& h
 
 namespace {
 
-// One range's kept triangles, in order, as AddBatch's threads convert them.
-struct BatchPart {
-  std::vector<Triangle> positions;
-  std::vector<TriangleNormals> normals;
-  std::vector<TriangleUvs> uvs, uvs1;
-  std::vector<TriangleTangents> tangents;
-  std::vector<TriangleColors> colors;
-};
-
+// Moves `count` elements of a per-triangle array from `from` down to `to` (to <= from).
 template <typename T>
-void CopyPart(const std::vector<T>& part, std::vector<T>& all, size_t at) {
-  std::copy(part.begin(), part.end(), all.begin() + ptrdiff_t(at));
+void MoveDown(std::vector<T>& all, size_t from, size_t to, size_t count) {
+  if (all.size() < from + count || from == to) return;
+  std::copy(all.begin() + ptrdiff_t(from), all.begin() + ptrdiff_t(from + count),
+            all.begin() + ptrdiff_t(to));
 }
 
 }  // namespace
 
+// The scene's arrays grow by `count` first and each range writes its kept triangles in place
+// (no copy through a buffer of its own: for big scenes the fresh pages are most of the time);
+// gaps left by skipped (degenerate) triangles are closed afterwards, in range order.
 void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t material,
                         const std::function<void(size_t, TriangleVertices&)>& fetch) {
   size_t cores = std::max(1u, std::thread::hardware_concurrency());
@@ -264,49 +274,71 @@ void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t materi
     }
     return;
   }
-  // Each range converts its triangles into its own part, then the parts are copied into the
-  // scene's arrays in range order: Add's order whatever the thread count.
-  std::vector<BatchPart> parts(ranges);
+  size_t base = scene_.triangles.size();
+  GrowTriangles(base, count, has, material);
+  std::vector<size_t> kept(ranges);
+  auto first = [&](size_t r) { return base + count * r / ranges; };
   ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
     TriangleVertices v;
     for (size_t r = lo; r < hi; ++r) {
-      BatchPart& part = parts[r];
+      size_t out = first(r);
       for (size_t t = count * r / ranges; t < count * (r + 1) / ranges; ++t) {
         VertexAttributes a = Fetch(t, has, fetch, v);
         WorldTriangle w;
         if (!ToWorld(v.p, w.positions)) continue;
         Convert(a, w);
-        part.positions.push_back(w.positions);
-        part.normals.push_back(w.normals);
-        if (has.uvs) part.uvs.push_back(w.uvs);
-        if (has.uvs1) part.uvs1.push_back(w.uvs1);
-        if (has.tangents) part.tangents.push_back(w.tangents);
-        if (has.colors) part.colors.push_back(w.colors);
+        Store(w, has, out++);
       }
+      kept[r] = out - first(r);
     }
   });
-  std::vector<size_t> at(ranges + 1, scene_.triangles.size());
-  for (size_t r = 0; r < ranges; ++r) at[r + 1] = at[r] + parts[r].positions.size();
-  size_t base = at[0], total = at[ranges] - base;
-  scene_.skippedDegenerateTriangles += int(count - total);
-  scene_.triangles.resize(base + total);
-  scene_.triangleNormals.resize(base + total);
-  scene_.triangleMaterials.resize(base + total, HasOverride() ? Override() : material);
-  GrowOptional(scene_.triangleUvs, base, total, has.uvs);
-  GrowOptional(scene_.triangleUvs1, base, total, has.uvs1);
-  GrowOptional(scene_.triangleTangents, base, total, has.tangents);
-  GrowOptional(scene_.triangleColors, base, total, has.colors, kWhiteColors);
-  ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
-    for (size_t r = lo; r < hi; ++r) {
-      BatchPart part = std::move(parts[r]);  // freed as soon as it is copied
-      CopyPart(part.positions, scene_.triangles, at[r]);
-      CopyPart(part.normals, scene_.triangleNormals, at[r]);
-      if (has.uvs) CopyPart(part.uvs, scene_.triangleUvs, at[r]);
-      if (has.uvs1) CopyPart(part.uvs1, scene_.triangleUvs1, at[r]);
-      if (has.tangents) CopyPart(part.tangents, scene_.triangleTangents, at[r]);
-      if (has.colors) CopyPart(part.colors, scene_.triangleColors, at[r]);
+  size_t at = base + kept[0];
+  for (size_t r = 1; r < ranges; ++r) {
+    if (first(r) != at) {
+      MoveDown(scene_.triangles, first(r), at, kept[r]);
+      MoveDown(scene_.triangleNormals, first(r), at, kept[r]);
+      if (has.uvs) MoveDown(scene_.triangleUvs, first(r), at, kept[r]);
+      if (has.uvs1) MoveDown(scene_.triangleUvs1, first(r), at, kept[r]);
+      if (has.tangents) MoveDown(scene_.triangleTangents, first(r), at, kept[r]);
+      if (has.colors) MoveDown(scene_.triangleColors, first(r), at, kept[r]);
     }
-  });
+    at += kept[r];
+  }
+  scene_.skippedDegenerateTriangles += int(base + count - at);
+  ShrinkTriangles(at);
+}
+
+// Room for `count` more triangles in every per-triangle array the scene keeps (the optional
+// ones by AppendOptional's rule), the material already in place.
+void MeshSink::GrowTriangles(size_t base, size_t count, const VertexPresence& has,
+                             uint32_t material) {
+  scene_.triangles.resize(base + count);
+  scene_.triangleNormals.resize(base + count);
+  scene_.triangleMaterials.resize(base + count, HasOverride() ? Override() : material);
+  GrowOptional(scene_.triangleUvs, base, count, has.uvs);
+  GrowOptional(scene_.triangleUvs1, base, count, has.uvs1);
+  GrowOptional(scene_.triangleTangents, base, count, has.tangents);
+  GrowOptional(scene_.triangleColors, base, count, has.colors, kWhiteColors);
+}
+
+void MeshSink::Store(const WorldTriangle& w, const VertexPresence& has, size_t at) {
+  scene_.triangles[at] = w.positions;
+  scene_.triangleNormals[at] = w.normals;
+  if (has.uvs) scene_.triangleUvs[at] = w.uvs;
+  if (has.uvs1) scene_.triangleUvs1[at] = w.uvs1;
+  if (has.tangents) scene_.triangleTangents[at] = w.tangents;
+  if (has.colors) scene_.triangleColors[at] = w.colors;
+}
+
+// Every per-triangle array cut to `size` triangles (the optional ones only where they exist).
+void MeshSink::ShrinkTriangles(size_t size) {
+  scene_.triangles.resize(size);
+  scene_.triangleNormals.resize(size);
+  scene_.triangleMaterials.resize(size);
+  if (!scene_.triangleUvs.empty()) scene_.triangleUvs.resize(size);
+  if (!scene_.triangleUvs1.empty()) scene_.triangleUvs1.resize(size);
+  if (!scene_.triangleTangents.empty()) scene_.triangleTangents.resize(size);
+  if (!scene_.triangleColors.empty()) scene_.triangleColors.resize(size);
 }
 
 uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name) {

@@ -18,6 +18,10 @@ bool IsDegenerateTriangle(vec3 p0, vec3 p1, vec3 p2);
 // A library's multi-line message as one line (newlines become "; ").
 std::string OneLine(std::string text);
 
+// Capacity for `total` triangles in every per-triangle array the scene keeps (the optional
+// ones where they exist), so that loading the rest of a big scene grows nothing.
+void ReserveTriangles(SceneDesc& scene, size_t total);
+
 // Optional per-vertex data of one triangle: three values each, or null when the mesh lacks it.
 struct VertexAttributes {
   const vec3* normals = nullptr;
@@ -112,6 +116,10 @@ class MeshSink {
   bool ToWorld(const vec3 p[3], Triangle& out) const;
   // The rest of a kept triangle's data in world space.
   void Convert(const VertexAttributes& attributes, WorldTriangle& out) const;
+  // AddBatch's steps on the scene's per-triangle arrays.
+  void GrowTriangles(size_t base, size_t count, const VertexPresence& has, uint32_t material);
+  void Store(const WorldTriangle& w, const VertexPresence& has, size_t at);
+  void ShrinkTriangles(size_t size);
   // t's vertices, with vertices 1 and 2 swapped under a mirroring transform (Add's rule).
   VertexAttributes Fetch(size_t t, const VertexPresence& has,
                          const std::function<void(size_t, TriangleVertices&)>& fetch,

@@ -47,6 +47,9 @@ struct LoadState {
   std::map<std::string, MeshEntry> meshTable;
   const LoadOptions* options = nullptr;  // the command line's choices
   std::string variant;  // --variant (LoadOptions::variant)
+  // "mesh" objects still to load, by their "file" string: a file placed again and again (a
+  // scene of copies) reserves room for all of them after its first load.
+  std::unordered_map<std::string, size_t> placementsLeft;
 };
 
 AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
@@ -301,6 +304,29 @@ void LoadMeshFile(const JsonObject& o, LoadState& state, MeshSink& sink, bool li
   if (scene.triangles.size() == trianglesBefore) sink.Warn("the mesh has no triangles");
 }
 
+// After a load of `file` that added `added` triangles: room for as many again per placement of
+// the file still to come (the same file gives the same triangles; a guess otherwise, which
+// only sizes the arrays' capacity).
+void ReserveForPlacements(const std::string& file, size_t added, LoadState& state) {
+  auto it = state.placementsLeft.find(file);
+  if (it == state.placementsLeft.end() || it->second == 0) return;
+  size_t left = --it->second;
+  if (left > 0 && added > 0) ReserveTriangles(state.scene, state.scene.triangles.size() + left * added);
+}
+
+// The count of "mesh" objects per "file" string (ill-formed entries skipped: the loader's own
+// checks report them in order).
+std::unordered_map<std::string, size_t> CountPlacements(const Json& json) {
+  std::unordered_map<std::string, size_t> count;
+  const auto objects = json.find("objects");
+  if (objects == json.end() || !objects->is_array()) return count;
+  for (const Json& o : *objects) {
+    if (!o.is_object() || !o.contains("type") || !o.contains("file")) continue;
+    if (o["type"] == "mesh" && o["file"].is_string()) ++count[o["file"].get<std::string>()];
+  }
+  return count;
+}
+
 void ParseMesh(const JsonObject& o, LoadState& state) {
   o.AllowOnly({"type", "file", "material", "transform", "lights_from_file", "animation", "time",
                "variant", "interior", "exterior"},
@@ -312,6 +338,7 @@ void ParseMesh(const JsonObject& o, LoadState& state) {
   if (iface) sink.DisallowInstances();  // the interface is kept per world-space triangle
   size_t first = state.scene.triangles.size();
   LoadMeshFile(o, state, sink, lightsFromFile);
+  ReserveForPlacements(o.String("file"), state.scene.triangles.size() - first, state);
   SetShapeInterfaces(o, ShapeType::kTriangle, first, state.scene.triangles.size(), iface,
                      state.scene);
 }
@@ -473,7 +500,7 @@ SceneDesc LoadSceneFromString(const std::string& text, const std::string& pathFo
   SceneDesc scene;
   scene.path = pathForMessages;
   LoadState state{pathForMessages, baseDir.empty() ? std::string(".") : baseDir, scene, {}, {},
-                  {}, &options, options.variant};
+                  {}, &options, options.variant, CountPlacements(json)};
   scene.render = ParseRender(root.Object("render"));
   JsonObject camera = root.Object("camera");
   if (camera.Has("from_file")) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "src/core/parallel_ranges.h"
+#include "src/core/prefault.h"
 #include "src/geometry/aabb.h"
 #include "src/geometry/bvh.h"
 #include "src/geometry/bvh_wide.h"
@@ -43,6 +44,9 @@ void CollectPrimitives(const SceneDesc& d, std::vector<PrimRef>& prims, std::vec
     prims.push_back(MakePrimRef(d, type, index, material));
     bounds.push_back(box);
   };
+  size_t shapes = d.triangles.size() + d.quads.size() + d.spheres.size();
+  ReserveOnThreads(prims, prims.size() + shapes, threads);
+  ReserveOnThreads(bounds, bounds.size() + shapes, threads);
   if (skipTriangle.empty()) {  // every triangle: filled in place, a big mesh on every core
     size_t n = d.triangles.size(), base = prims.size();
     prims.resize(base + n);
@@ -199,6 +203,7 @@ LayoutBvh BuildLayoutBvh(const SceneDesc& d, const std::vector<PrimRef>& unorder
 
 void PackTriangles(Scene& scene, int threads) {
   const SceneDesc& d = scene.desc;
+  ReserveOnThreads(scene.packedTriangles, scene.prims.size(), threads);
   scene.packedTriangles.resize(scene.prims.size());
   ForRangesOnThreads(scene.prims.size(), threads, kMinPrimsPerThread, [&](size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; ++i) {
@@ -247,6 +252,7 @@ Aabb BuildFlatScene(Scene& scene, const BvhBuildOptions& options) {
   scene.wideNodes = std::move(bvh.wideNodes);
   scene.bvhSahCost = bvh.sahCost;
   scene.bvhDepth = bvh.depth;
+  ReserveOnThreads(scene.prims, bvh.order.size(), options.threads);
   scene.prims.resize(bvh.order.size());
   ForRangesOnThreads(bvh.order.size(), options.threads, kMinPrimsPerThread,
                      [&](size_t lo, size_t hi) {
