@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cuda/cuda_check.cuh"
+#include "cuda/staged_upload.cuh"
 
 namespace pt {
 
@@ -68,6 +69,7 @@ class DeviceBuffer {
     Resize((bytes + sizeof(T) - 1) / sizeof(T));
     if (!bytes) return;
     cudaStream_t copy = ThreadCopyStream();
+    if (StagedUploadCopy(data_, src, bytes, copy)) return;
     CudaCheck(cudaMemcpyAsync(data_, src, bytes, cudaMemcpyHostToDevice, copy), "upload");
     CudaCheck(cudaStreamSynchronize(copy), "upload");
   }

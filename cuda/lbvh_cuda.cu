@@ -6,6 +6,7 @@
 #include <cub/device/device_scan.cuh>
 
 #include "cuda/device_buffer.cuh"
+#include "src/core/prefault.h"
 #include "src/geometry/lbvh_build.h"
 #include "src/geometry/lbvh_collapse.h"
 
@@ -134,6 +135,11 @@ bool BuildLbvhCuda(const std::vector<Aabb>& bounds, int device, BvhBuildResult* 
   Launch(stream, n, [a] __device__(uint32_t i) { lbvh::LeafDepth(a, i); });
   CudaCheck(cudaStreamSynchronize(stream), "LBVH build");
   std::vector<uint32_t> depths;
+  // The host arrays paged in on every core first: a download into fresh pages takes their
+  // faults one after another (tens of ms for a multi-million-triangle tree).
+  ReserveOnThreads(out->nodes, nodes.Size());
+  ReserveOnThreads(out->primOrder, n);
+  ReserveOnThreads(depths, n);
   nodes.Download(out->nodes);
   d.valuesSorted.Download(out->primOrder);
   depth.Download(depths);
@@ -207,6 +213,8 @@ bool BuildWideLbvhCuda(const std::vector<Aabb>& bounds, int device, WideBvhResul
   }
   CudaCheck(cudaStreamSynchronize(stream), "LBVH collapse");
   if (primCount != n) return false;
+  ReserveOnThreads(out->nodes, nodeCount);  // as BuildLbvhCuda's downloads
+  ReserveOnThreads(out->primOrder, n);
   out->nodes.resize(nodeCount);
   CudaCheck(cudaMemcpyAsync(out->nodes.data(), wide.Data(), nodeCount * sizeof(WideBvhNode),
                             cudaMemcpyDeviceToHost, stream),

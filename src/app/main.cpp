@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   backends.cudaDenoiser = &pt::MakeCudaDenoiser;
   backends.lbvhBuild = &pt::BuildLbvhCuda;
   backends.wideLbvhBuild = &pt::BuildWideLbvhCuda;
+  backends.prepareUploads = &pt::CudaPrepareUploads;
 #endif
   backends.cudaDeviceCount = &pt::CudaDeviceCount;
   backends.startDevice = &pt::CudaStartDevice;

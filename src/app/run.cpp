@@ -25,6 +25,9 @@
 namespace pt {
 namespace {
 
+// Triangles from which a GPU run readies its upload's pinned buffers ahead (~300 MB of arrays).
+constexpr size_t kPrepareUploadsTriangles = size_t(1) << 21;
+
 // The reference at the size of what is rendered: the crop's, or a full image cut to it.
 std::vector<float> ReadReference(const CliOptions& cli, const RenderSettings& settings) {
   int width = 0, height = 0;
@@ -115,6 +118,10 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   AppTimes times;
   SceneDesc desc = LoadAndOverride(cli, &times.loadMs);
   timeline.Mark("load");
+  // A big scene's upload goes through pinned buffers, made beside its preparation.
+  if (backends.prepareUploads && cli.backend != BackendKind::kCpu &&
+      desc.triangles.size() >= kPrepareUploadsTriangles)
+    backends.prepareUploads(0);
   Scene scene = Build(std::move(desc), ChooseBvh(cli, backends, &device, 0, &times.bvhOnDevice),
                       &times.bvhBuildMs);
   times.bvhBuilder = BuilderThatRan(cli, times.bvhOnDevice);

@@ -36,6 +36,8 @@ struct AppBackends {
   DenoiserFactory cudaDenoiser = nullptr;
   // Starts the GPU of a local rank (its context and modules); returns the GPUs found.
   int (*startDevice)(int localRank) = nullptr;
+  // Readies, on a thread of its own, what a big scene's upload goes through (pinned buffers).
+  void (*prepareUploads)(int localRank) = nullptr;
   // The linear BVH (--bvh-build gpu) on a GPU; false when it cannot run there.
   bool (*lbvhBuild)(const std::vector<Aabb>& bounds, int device, BvhBuildResult* out) = nullptr;
   bool (*wideLbvhBuild)(const std::vector<Aabb>& bounds, int device, WideBvhResult* out) =

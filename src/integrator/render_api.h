@@ -170,6 +170,10 @@ bool CudaBackendBuilt();
 int CudaDeviceCount();      // 0 when not built or no GPU
 // Starts GPU localRank % count (driver, context, modules) and returns the count (0: none).
 int CudaStartDevice(int localRank);
+// Makes the pinned buffers big uploads go through (cuda/staged_upload.cuh) on a thread of its
+// own, for GPU localRank % count; returns at once. For a scene known to be big, ahead of its
+// upload.
+void CudaPrepareUploads(int localRank);
 std::string CudaDeviceName();
 
 // relMSE as the CLI contract defines it: mean((x - r)^2 / (r^2 + 1e-2)) over pixels, channels.

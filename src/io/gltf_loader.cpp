@@ -225,46 +225,29 @@ class GltfWalker {
     }
     auto position = p.attributes.find("POSITION");
     if (position == p.attributes.end()) Malformed("a primitive has no POSITION attribute");
-    std::vector<vec3> positions = ReadVec3s(model_, position->second);
-    size_t n = positions.size();
-    std::vector<vec3> normals = Attribute(p, "NORMAL", n, ReadVec3s);
+    IndexedVertices v;
+    v.positions = ReadVec3s(model_, position->second);
+    size_t n = v.positions.size();
+    v.normals = Attribute(p, "NORMAL", n, ReadVec3s);
     int own = GltfVariantMaterial(p, variant_);
     uint32_t material = sink_.HasOverride() ? sink_.Override() : materials_.Index(own);
     // Only what the material reads is kept: a scene pays for the per-vertex data it uses.
     GltfVertexNeeds needs = sink_.HasOverride() ? GltfVertexNeeds{} : materials_.Needs(own);
-    std::vector<vec2> uvs[2];
+    std::vector<vec2>* uvs[2] = {&v.uvs, &v.uvs1};
     for (int set = 0; set < 2; ++set) {
       if (!needs.uv[set]) continue;
       std::string name = "TEXCOORD_" + std::to_string(set);
-      uvs[set] = Attribute(p, name.c_str(), n, ReadVec2s);
-      if (uvs[set].empty()) {
+      *uvs[set] = Attribute(p, name.c_str(), n, ReadVec2s);
+      if (uvs[set]->empty()) {
         materials_.Note("textures read at (0, 0) on primitives without " + name, own);
-        uvs[set].assign(n, vec2(0.0f));  // explicit zeros, not the barycentrics
+        uvs[set]->assign(n, vec2(0.0f));  // explicit zeros, not the barycentrics
       }
     }
-    std::vector<vec4> tangents, colors;
-    if (needs.tangents) tangents = Attribute(p, "TANGENT", n, ReadTangents);
-    if (needs.colors) colors = Attribute(p, "COLOR_0", n, ReadColors);
-    if (deform_) Deform(p, positions, normals, tangents);
-    std::vector<uint32_t> tri = TriangleIndices(model_, p, n);
-    VertexPresence has;
-    has.normals = !normals.empty();
-    has.uvs = !uvs[0].empty();
-    has.uvs1 = !uvs[1].empty();
-    has.tangents = !tangents.empty();
-    has.colors = !colors.empty();
-    // A big primitive's triangles are transformed on every core (same result as in order).
-    sink_.AddBatch(tri.size() / 3, has, material, [&](size_t t, TriangleVertices& v) {
-      for (int k = 0; k < 3; ++k) {
-        uint32_t i = tri[3 * t + k];
-        v.p[k] = positions[i];
-        if (has.normals) v.normals[k] = normals[i];
-        if (has.uvs) v.uvs[k] = uvs[0][i];
-        if (has.uvs1) v.uvs1[k] = uvs[1][i];
-        if (has.tangents) v.tangents[k] = tangents[i];
-        if (has.colors) v.colors[k] = colors[i];
-      }
-    });
+    if (needs.tangents) v.tangents = Attribute(p, "TANGENT", n, ReadTangents);
+    if (needs.colors) v.colors = Attribute(p, "COLOR_0", n, ReadColors);
+    if (deform_) Deform(p, v.positions, v.normals, v.tangents);
+    // Each vertex transformed once; a big primitive's triangles on every core.
+    sink_.AddIndexed(v, TriangleIndices(model_, p, n), material);
   }
 
   void Deform(const tinygltf::Primitive& p, std::vector<vec3>& positions,

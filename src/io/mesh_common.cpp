@@ -7,7 +7,6 @@
 #include <thread>
 #include <utility>
 
-#include "src/core/parallel_ranges.h"
 #include "src/core/prefault.h"
 #include "src/materials/texture.h"
 #include "src/materials/texture_pyramid.h"
@@ -45,6 +44,15 @@ void ReserveTriangles(SceneDesc& scene, size_t total) {
   if (!scene.triangleUvs1.empty()) ReserveOnThreads(scene.triangleUvs1, total);
   if (!scene.triangleTangents.empty()) ReserveOnThreads(scene.triangleTangents, total);
   if (!scene.triangleColors.empty()) ReserveOnThreads(scene.triangleColors, total);
+}
+
+TriangleUvs FiniteUvs(const vec2* uvs) {
+  vec2 uv[3];
+  for (int i = 0; i < 3; ++i) {
+    bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
+    uv[i] = finite ? uvs[i] : vec2(0.0f);
+  }
+  return TriangleUvs{uv[0], uv[1], uv[2]};
 }
 
 MeshSink::MeshSink(SceneDesc& scene, const glm::dmat4& objectToWorld, int64_t materialOverride,
@@ -105,31 +113,6 @@ void AppendOptional(std::vector<T>& all, size_t triangle, const T* value, T fill
   }
 }
 
-// Three texture coordinates with non-finite ones (which would poison lookups) as zeros.
-TriangleUvs FiniteUvs(const vec2* uvs) {
-  vec2 uv[3];
-  for (int i = 0; i < 3; ++i) {
-    bool finite = std::isfinite(uvs[i].x) && std::isfinite(uvs[i].y);
-    uv[i] = finite ? uvs[i] : vec2(0.0f);
-  }
-  return TriangleUvs{uv[0], uv[1], uv[2]};
-}
-
-// Makes room for `count` more triangles in an optional per-triangle array: backfilled with
-// `fill` when the batch brings the data (AppendOptional's rule), else grown with `fill` once the
-// array exists.
-template <typename T>
-void GrowOptional(std::vector<T>& all, size_t base, size_t count, bool has, T fill = T{}) {
-  if (!has && all.empty()) return;
-  all.resize(base, fill);
-  all.resize(base + count, fill);
-}
-
-const TriangleColors kWhiteColors{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
-
-// Primitives of fewer triangles per thread stay on one thread.
-constexpr size_t kMinBatchPerThread = 1 << 12;
-
 // Vertices 1 and 2 of an optional per-vertex array swapped into `out` (null stays null).
 template <typename T>
 const T* Swapped12(const T* in, T out[3]) {
@@ -175,31 +158,39 @@ bool MeshSink::ToWorld(const vec3 p[3], Triangle& out) const {
   return true;
 }
 
+vec3 MeshSink::WorldNormal(vec3 n, bool& valid) const {
+  glm::dvec3 d = normalMatrix_ * glm::dvec3(n);
+  double len = glm::length(d);
+  valid = len > 0.0 && std::isfinite(len);
+  return valid ? vec3(d / len) : vec3(0.0f);
+}
+
+// Tangents lie in the surface: they map as directions; a mirroring transform flips the
+// bitangent's handedness relative to the transformed normal.
+vec4 MeshSink::WorldTangent(vec4 t) const {
+  double handedness = mirrored_ ? -1.0 : 1.0;
+  glm::dvec3 d = glm::dmat3(toWorld_) * glm::dvec3(vec3(t));
+  double len = glm::length(d);
+  vec3 dir = len > 0.0 && std::isfinite(len) ? vec3(d / len) : vec3(0.0f);
+  return vec4(dir, float(handedness) * (t.w < 0.0f ? -1.0f : 1.0f));
+}
+
 void MeshSink::Convert(const VertexAttributes& a, WorldTriangle& out) const {
   if (a.normals) {
     vec3 n[3];
     bool valid = true;
     for (int i = 0; i < 3; ++i) {
-      glm::dvec3 d = normalMatrix_ * glm::dvec3(a.normals[i]);
-      double len = glm::length(d);
-      valid = valid && len > 0.0 && std::isfinite(len);
-      n[i] = valid ? vec3(d / len) : vec3(0.0f);
+      bool v = false;
+      n[i] = WorldNormal(a.normals[i], v);
+      valid = valid && v;
     }
     if (valid) out.normals = TriangleNormals{n[0], n[1], n[2]};
   }
   if (a.uvs) out.uvs = FiniteUvs(a.uvs);
   if (a.uvs1) out.uvs1 = FiniteUvs(a.uvs1);
   if (a.tangents) {
-    // Tangents lie in the surface: they map as directions; a mirroring transform flips the
-    // bitangent's handedness relative to the transformed normal.
-    double handedness = glm::determinant(glm::dmat3(toWorld_)) < 0.0 ? -1.0 : 1.0;
-    vec4* t[3] = {&out.tangents.t0, &out.tangents.t1, &out.tangents.t2};
-    for (int i = 0; i < 3; ++i) {
-      glm::dvec3 d = glm::dmat3(toWorld_) * glm::dvec3(vec3(a.tangents[i]));
-      double len = glm::length(d);
-      vec3 dir = len > 0.0 && std::isfinite(len) ? vec3(d / len) : vec3(0.0f);
-      *t[i] = vec4(dir, float(handedness) * (a.tangents[i].w < 0.0f ? -1.0f : 1.0f));
-    }
+    out.tangents = TriangleTangents{WorldTangent(a.tangents[0]), WorldTangent(a.tangents[1]),
+                                    WorldTangent(a.tangents[2])};
   }
   if (a.colors) out.colors = TriangleColors{a.colors[0], a.colors[1], a.colors[2]};
 }
@@ -220,125 +211,6 @@ bool MeshSink::AddInOrder(const vec3 p[3], const VertexAttributes& a, uint32_t m
   scene_.triangleNormals.push_back(w.normals);
   scene_.triangleMaterials.push_back(HasOverride() ? Override() : material);
   return true;
-}
-
-VertexAttributes MeshSink::Fetch(size_t t, const VertexPresence& has,
-                                 const std::function<void(size_t, TriangleVertices&)>& fetch,
-                                 TriangleVertices& v) const {
-  fetch(t, v);
-  if (mirrored_) {  // as Add: vertices 1 and 2 trade places with their attributes
-    std::swap(v.p[1], v.p[2]);
-    std::swap(v.normals[1], v.normals[2]);
-    std::swap(v.uvs[1], v.uvs[2]);
-    std::swap(v.uvs1[1], v.uvs1[2]);
-    std::swap(v.tangents[1], v.tangents[2]);
-    std::swap(v.colors[1], v.colors[2]);
-  }
-  return AttributesOf(v, has);
-}
-
-VertexAttributes AttributesOf(const TriangleVertices& v, const VertexPresence& has) {
-  VertexAttributes a;
-  if (has.normals) a.normals = v.normals;
-  if (has.uvs) a.uvs = v.uvs;
-  if (has.uvs1) a.uvs1 = v.uvs1;
-  if (has.tangents) a.tangents = v.tangents;
-  if (has.colors) a.colors = v.colors;
-  return a;
-}
-
-namespace {
-
-// Moves `count` elements of a per-triangle array from `from` down to `to` (to <= from).
-template <typename T>
-void MoveDown(std::vector<T>& all, size_t from, size_t to, size_t count) {
-  if (all.size() < from + count || from == to) return;
-  std::copy(all.begin() + ptrdiff_t(from), all.begin() + ptrdiff_t(from + count),
-            all.begin() + ptrdiff_t(to));
-}
-
-}  // namespace
-
-// The scene's arrays grow by `count` first and each range writes its kept triangles in place
-// (no copy through a buffer of its own: for big scenes the fresh pages are most of the time);
-// gaps left by skipped (degenerate) triangles are closed afterwards, in range order.
-void MeshSink::AddBatch(size_t count, const VertexPresence& has, uint32_t material,
-                        const std::function<void(size_t, TriangleVertices&)>& fetch) {
-  size_t cores = std::max(1u, std::thread::hardware_concurrency());
-  size_t ranges = std::clamp<size_t>(count / kMinBatchPerThread, 1, cores);
-  if (ranges == 1) {  // one thread: Add in order
-    TriangleVertices one;
-    for (size_t t = 0; t < count; ++t) {
-      VertexAttributes a = Fetch(t, has, fetch, one);
-      AddInOrder(one.p, a, material);
-    }
-    return;
-  }
-  size_t base = scene_.triangles.size();
-  GrowTriangles(base, count, has, material);
-  std::vector<size_t> kept(ranges);
-  auto first = [&](size_t r) { return base + count * r / ranges; };
-  ForRangesOnThreads(ranges, int(ranges), 1, [&](size_t lo, size_t hi) {
-    TriangleVertices v;
-    for (size_t r = lo; r < hi; ++r) {
-      size_t out = first(r);
-      for (size_t t = count * r / ranges; t < count * (r + 1) / ranges; ++t) {
-        VertexAttributes a = Fetch(t, has, fetch, v);
-        WorldTriangle w;
-        if (!ToWorld(v.p, w.positions)) continue;
-        Convert(a, w);
-        Store(w, has, out++);
-      }
-      kept[r] = out - first(r);
-    }
-  });
-  size_t at = base + kept[0];
-  for (size_t r = 1; r < ranges; ++r) {
-    if (first(r) != at) {
-      MoveDown(scene_.triangles, first(r), at, kept[r]);
-      MoveDown(scene_.triangleNormals, first(r), at, kept[r]);
-      if (has.uvs) MoveDown(scene_.triangleUvs, first(r), at, kept[r]);
-      if (has.uvs1) MoveDown(scene_.triangleUvs1, first(r), at, kept[r]);
-      if (has.tangents) MoveDown(scene_.triangleTangents, first(r), at, kept[r]);
-      if (has.colors) MoveDown(scene_.triangleColors, first(r), at, kept[r]);
-    }
-    at += kept[r];
-  }
-  scene_.skippedDegenerateTriangles += int(base + count - at);
-  ShrinkTriangles(at);
-}
-
-// Room for `count` more triangles in every per-triangle array the scene keeps (the optional
-// ones by AppendOptional's rule), the material already in place.
-void MeshSink::GrowTriangles(size_t base, size_t count, const VertexPresence& has,
-                             uint32_t material) {
-  scene_.triangles.resize(base + count);
-  scene_.triangleNormals.resize(base + count);
-  scene_.triangleMaterials.resize(base + count, HasOverride() ? Override() : material);
-  GrowOptional(scene_.triangleUvs, base, count, has.uvs);
-  GrowOptional(scene_.triangleUvs1, base, count, has.uvs1);
-  GrowOptional(scene_.triangleTangents, base, count, has.tangents);
-  GrowOptional(scene_.triangleColors, base, count, has.colors, kWhiteColors);
-}
-
-void MeshSink::Store(const WorldTriangle& w, const VertexPresence& has, size_t at) {
-  scene_.triangles[at] = w.positions;
-  scene_.triangleNormals[at] = w.normals;
-  if (has.uvs) scene_.triangleUvs[at] = w.uvs;
-  if (has.uvs1) scene_.triangleUvs1[at] = w.uvs1;
-  if (has.tangents) scene_.triangleTangents[at] = w.tangents;
-  if (has.colors) scene_.triangleColors[at] = w.colors;
-}
-
-// Every per-triangle array cut to `size` triangles (the optional ones only where they exist).
-void MeshSink::ShrinkTriangles(size_t size) {
-  scene_.triangles.resize(size);
-  scene_.triangleNormals.resize(size);
-  scene_.triangleMaterials.resize(size);
-  if (!scene_.triangleUvs.empty()) scene_.triangleUvs.resize(size);
-  if (!scene_.triangleUvs1.empty()) scene_.triangleUvs1.resize(size);
-  if (!scene_.triangleTangents.empty()) scene_.triangleTangents.resize(size);
-  if (!scene_.triangleColors.empty()) scene_.triangleColors.resize(size);
 }
 
 uint32_t MeshSink::AddMaterial(const Material& material, const std::string& name) {

@@ -31,19 +31,27 @@ struct VertexAttributes {
   const vec4* colors = nullptr;    // linear RGBA
 };
 
-// The vertices of one triangle for MeshSink::AddBatch, with room for every attribute; which
-// ones a batch carries is said once for the whole batch (VertexPresence).
-struct TriangleVertices {
-  vec3 p[3];
-  vec3 normals[3];
-  vec2 uvs[3], uvs1[3];
-  vec4 tangents[3], colors[3];
-};
+// Three texture coordinates with non-finite ones (which would poison lookups) as zeros.
+TriangleUvs FiniteUvs(const vec2* uvs);
+// What a triangle without COLOR_0 has once the scene keeps colours.
+inline const TriangleColors kWhiteColors{vec4(1.0f), vec4(1.0f), vec4(1.0f)};
+
+// Which optional per-vertex arrays a primitive brings.
 struct VertexPresence {
   bool normals = false, uvs = false, uvs1 = false, tangents = false, colors = false;
 };
-// v's attributes that `has` names, as Add takes them (pointing into v).
-VertexAttributes AttributesOf(const TriangleVertices& v, const VertexPresence& has);
+
+// An indexed primitive's vertices (a glTF primitive's): positions, and each optional attribute
+// either empty (absent) or one per position.
+struct IndexedVertices {
+  std::vector<vec3> positions, normals;
+  std::vector<vec2> uvs, uvs1;      // TEXCOORD_0, TEXCOORD_1
+  std::vector<vec4> tangents;       // xyz and the bitangent sign w
+  std::vector<vec4> colors;         // linear RGBA
+  VertexPresence Presence() const {
+    return {!normals.empty(), !uvs.empty(), !uvs1.empty(), !tangents.empty(), !colors.empty()};
+  }
+};
 
 // Receives one mesh file's triangles. Positions are transformed in double precision by the
 // current transform (node transforms composed with the object's); normals by its inverse
@@ -89,11 +97,11 @@ class MeshSink {
     return Add(p, a, material);
   }
 
-  // The same as Add(fetch(t)) for t = 0 .. count-1 in order (same triangles, same values, same
-  // skipped ones), for a big primitive on every core: fetch(t, v) fills triangle t's
-  // vertices and the attributes `has` names, and must be safe to call from several threads.
-  void AddBatch(size_t count, const VertexPresence& has, uint32_t material,
-                const std::function<void(size_t, TriangleVertices&)>& fetch);
+  // Triangles given as vertex indices into v (3 per triangle, each < v.positions.size()): the
+  // same triangles, values and skipped ones as Add of each triangle in order, with each vertex
+  // transformed once and a big primitive on every core (src/io/mesh_indexed.cpp).
+  void AddIndexed(const IndexedVertices& v, const std::vector<uint32_t>& indices,
+                  uint32_t material);
 
   uint32_t AddMaterial(const Material& material, const std::string& name);
   // A glTF material's extension entry (Material::ext takes the index returned).
@@ -116,14 +124,18 @@ class MeshSink {
   bool ToWorld(const vec3 p[3], Triangle& out) const;
   // The rest of a kept triangle's data in world space.
   void Convert(const VertexAttributes& attributes, WorldTriangle& out) const;
-  // AddBatch's steps on the scene's per-triangle arrays.
+  // One vertex's normal in world space, unit length; zero and `valid` false when it has none.
+  vec3 WorldNormal(vec3 n, bool& valid) const;
+  // One vertex's tangent in world space (unit xyz, w the bitangent's sign in world space).
+  vec4 WorldTangent(vec4 t) const;
+  // AddIndexed's steps on the scene's per-triangle arrays.
   void GrowTriangles(size_t base, size_t count, const VertexPresence& has, uint32_t material);
-  void Store(const WorldTriangle& w, const VertexPresence& has, size_t at);
   void ShrinkTriangles(size_t size);
-  // t's vertices, with vertices 1 and 2 swapped under a mirroring transform (Add's rule).
-  VertexAttributes Fetch(size_t t, const VertexPresence& has,
-                         const std::function<void(size_t, TriangleVertices&)>& fetch,
-                         TriangleVertices& v) const;
+  struct OptionalArrays {
+    bool uvs, uvs1, tangents, colors;  // whether the scene keeps that array yet
+  };
+  OptionalArrays Optionals() const;
+  void KeepAbsent(const OptionalArrays& before);
 
   SceneDesc& scene_;
   glm::dmat4 objectToWorld_;

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <utility>
 
+#include "src/core/parallel_ranges.h"
 #include "src/lights/emission_power.h"
 #include "src/lights/environment.h"
 #include "src/lights/light_bvh_build.h"
@@ -113,6 +116,33 @@ double LightPower(const Scene& scene, const Light& light) {
   return 0.0;
 }
 
+// The world primitives [0, count) that emit, with their emission scale, in primitive order
+// (dark ones left out: BSDF sampling only); every primitive's light index reset. A big scene's
+// primitives on every core.
+static std::vector<std::pair<uint32_t, double>> WorldEmitters(Scene& scene, const SceneView& view,
+                                                              size_t count) {
+  using Part = std::vector<std::pair<uint32_t, double>>;
+  std::mutex mutex;
+  std::vector<std::pair<size_t, Part>> parts;
+  ForRangesOnThreads(count, 0, size_t(1) << 16, [&](size_t lo, size_t hi) {
+    Part part;
+    for (size_t i = lo; i < hi; ++i) {
+      PrimRef& prim = scene.prims[i];
+      prim.light = -1;
+      if (!MaterialEmits(scene.desc.materials[prim.material])) continue;
+      double scale = EmissionScale(view, prim);
+      if (scale > 0.0) part.emplace_back(uint32_t(i), scale);
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    parts.emplace_back(lo, std::move(part));
+  });
+  std::sort(parts.begin(), parts.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  Part all;
+  for (auto& [lo, part] : parts) all.insert(all.end(), part.begin(), part.end());
+  return all;
+}
+
 void BuildLightTable(Scene& scene) {
   const SceneDesc& desc = scene.desc;
   scene.lights.clear();
@@ -124,37 +154,28 @@ void BuildLightTable(Scene& scene) {
   // With instances, each placement's emitters come first (AppendInstanceLights), then the
   // world-space primitives': the order of a scene whose instances FlattenInstances placed.
   if (scene.HasInstances()) AppendInstanceLights(scene);
-  std::vector<uint32_t> emitters;
   size_t worldPrims = scene.HasInstances() ? scene.worldPrimCount : scene.prims.size();
-  std::vector<double> primScale(worldPrims, 0.0);
-  for (size_t i = 0; i < worldPrims; ++i) {
-    PrimRef& prim = scene.prims[i];
-    prim.light = -1;
-    const Material& m = desc.materials[prim.material];
-    if (!MaterialEmits(m)) continue;
-    primScale[i] = EmissionScale(view, prim);
-    if (primScale[i] > 0.0) emitters.push_back(uint32_t(i));  // dark ones: BSDF sampling only
-  }
-  std::stable_sort(emitters.begin(), emitters.end(), [&](uint32_t a, uint32_t b) {
-    return scene.prims[a].tagIndex < scene.prims[b].tagIndex;
+  std::vector<std::pair<uint32_t, double>> emitters = WorldEmitters(scene, view, worldPrims);
+  std::stable_sort(emitters.begin(), emitters.end(), [&](const auto& a, const auto& b) {
+    return scene.prims[a.first].tagIndex < scene.prims[b.first].tagIndex;
   });
   std::vector<double> emissionScale;  // per world area light, for its power
   const size_t firstWorldLight = scene.lights.size();  // after the instances' lights
   for (size_t k = 0; k < emitters.size(); ++k) {
-    PrimRef& prim = scene.prims[emitters[k]];
-    if (k > 0 && prim.tagIndex == scene.prims[emitters[k - 1]].tagIndex) {
-      prim.light = scene.prims[emitters[k - 1]].light;
+    PrimRef& prim = scene.prims[emitters[k].first];
+    if (k > 0 && prim.tagIndex == scene.prims[emitters[k - 1].first].tagIndex) {
+      prim.light = scene.prims[emitters[k - 1].first].light;
       continue;
     }
     const Material& m = desc.materials[prim.material];
     Light light;
     light.type = LightType::kArea;
-    light.prim = emitters[k];
+    light.prim = emitters[k].first;
     light.radiance = m.radiance;
     light.twoSided = m.twoSided;
     prim.light = int32_t(scene.lights.size());
     scene.lights.push_back(light);
-    emissionScale.push_back(primScale[emitters[k]]);
+    emissionScale.push_back(emitters[k].second);
   }
   // Black point and spot lights are left out (as black directional lights): no sampler may
   // choose a light of no power.
