@@ -198,7 +198,8 @@ TEST(Lbvh, BigBoxesAmongSmallOnesCostLessThanPlainMortonOrder) {
     BvhNode& node = plain.nodes[k];
     Aabb box;
     if (node.IsLeaf()) {
-      for (uint32_t p = 0; p < node.count; ++p) box.Extend(boxes[plain.primOrder[node.leftOrFirst + p]]);
+      for (uint32_t p = 0; p < node.count; ++p)
+        box.Extend(boxes[plain.primOrder[node.leftOrFirst + p]]);
     } else {
       for (uint32_t c = 0; c < 2; ++c) {
         const BvhNode& child = plain.nodes[node.leftOrFirst + c];

@@ -49,7 +49,8 @@ RandomMesh MakeRandomMesh(size_t count, uint32_t seed) {
     switch (rng() % 40) {
       case 0: i[2] = i[0]; break;  // repeated vertex
       case 1:  // a collinear triple
-        i[0] = std::min<uint32_t>(i[0], uint32_t(vertices - 3)) / 3 * 3, i[1] = i[0] + 1, i[2] = i[0] + 2;
+        i[0] = std::min<uint32_t>(i[0], uint32_t(vertices - 3)) / 3 * 3;
+        i[1] = i[0] + 1, i[2] = i[0] + 2;
         break;
       default: break;
     }
@@ -138,7 +139,8 @@ TEST(MeshIndexed, SameAsAddInOrderOverTransformsAndAttributeSets) {
   for (int which = 0; which < 4; ++which) {
     SCOPED_TRACE("transform " + std::to_string(which));
     SceneDesc a, b;
-    MeshSink inOrder(a, Transform(which), -1, "in order"), batched(b, Transform(which), -1, "indexed");
+    MeshSink inOrder(a, Transform(which), -1, "in order");
+    MeshSink batched(b, Transform(which), -1, "indexed");
     VertexPresence none, all{true, true, true, true, true}, some{true, false, true, false, false};
     // No optional data yet, then data that backfills, then none again (filled), then some.
     AddBoth(inOrder, batched, tris, 0, 1000, none, 3);

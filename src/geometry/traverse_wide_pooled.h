@@ -147,14 +147,13 @@ __device__ inline uint32_t TestPooledPrims(const SceneView& s, uint32_t team, co
 
 // The walk: the lanes that called it together (the team) step through their trees one node at
 // a time and test the primitives of each step together; a lane whose walk is over keeps taking
-// part in the rounds until the whole team is done.
-template <TraceMode kMode, bool kHitTest>
-__device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBest* best,
-                                      TraversalCounters* counters) {
-  const uint32_t team = __activemask();
+// part in the rounds until the whole team is done. kParallel: the node test checks parallel
+// axes (wide_node_test.h); the team takes one copy for all its lanes (TraversePooled).
+template <TraceMode kMode, bool kHitTest, bool kParallel>
+__device__ inline void PooledWalk(const SceneView& s, uint32_t team, const Ray& ray,
+                                  const WideRay& r, bool done, PoolBest* best,
+                                  TraversalCounters* counters) {
   const WideBvh bvh = SceneWideBvh(s);
-  bool done = bvh.nodeCount == 0 || !TraceableRay(ray);
-  const WideRay r = MakeWideRay(ray);
   // The per-ray walk's steps, without postponing: here every step's primitives are tested at
   // once, by the whole team.
   WideStack<kWideStackSize> stack;
@@ -165,7 +164,7 @@ __device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBe
     if (!done && !w.HasNode()) done = !w.Pop();
     if (!done) {
       ++nodesVisited;
-      w.template VisitNext<false, kWideNearestFirst<kMode>>(bvh.nodes, r, best->tMax);
+      w.template VisitNext<false, kWideNearestFirst<kMode>, kParallel>(bvh.nodes, r, best->tMax);
     }
     primsTested += TestPooledPrims<kMode, kHitTest>(s, team, ray, w.primBase, w.primMask, best);
     if (kMode == TraceMode::kAny && best->prim != HitRecord::kNoHit) done = true;
@@ -173,6 +172,23 @@ __device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBe
   if (counters) {
     counters->nodes += nodesVisited;
     counters->prims += primsTested;
+  }
+}
+
+// Two copies of the walk, as Traverse's (traverse_wide.h): a team none of whose rays has a
+// parallel axis (nearly every team) runs the one without parallel-axis code in its node loop.
+// With only the other, the Breakfast Room's intersect and shadow stages (pooled) were 6-8%
+// slower on an H100 than at bc3982d (benchmarks/RESULTS.md).
+template <TraceMode kMode, bool kHitTest>
+__device__ inline void TraversePooled(const SceneView& s, const Ray& ray, PoolBest* best,
+                                      TraversalCounters* counters) {
+  const uint32_t team = __activemask();
+  const bool done = SceneWideBvh(s).nodeCount == 0 || !TraceableRay(ray);
+  const WideRay r = MakeWideRay(ray);
+  if (__any_sync(team, !done && r.parallel != 0)) {
+    PooledWalk<kMode, kHitTest, true>(s, team, ray, r, done, best, counters);
+  } else {
+    PooledWalk<kMode, kHitTest, false>(s, team, ray, r, done, best, counters);
   }
 }
 

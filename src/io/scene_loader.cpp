@@ -311,7 +311,8 @@ void ReserveForPlacements(const std::string& file, size_t added, LoadState& stat
   auto it = state.placementsLeft.find(file);
   if (it == state.placementsLeft.end() || it->second == 0) return;
   size_t left = --it->second;
-  if (left > 0 && added > 0) ReserveTriangles(state.scene, state.scene.triangles.size() + left * added);
+  if (left > 0 && added > 0)
+    ReserveTriangles(state.scene, state.scene.triangles.size() + left * added);
 }
 
 // The count of "mesh" objects per "file" string (ill-formed entries skipped: the loader's own
