@@ -5,8 +5,9 @@
 #   tools/run_fuzz.sh [SECONDS]      (default 60)
 #
 # Builds build-fuzz/scene_loader_fuzz with clang++-14 -fsanitize=fuzzer,address,undefined from
-# the loader's sources (src/io, src/scene, src/geometry, src/lights, src/materials, src/media; the Debian tinygltf,
-# tinyobjloader, tinyexr, Draco, meshoptimizer and WebP libraries are linked as they are), replays every seed file of
+# the loader's sources (src/io, src/scene, src/geometry, src/lights, src/materials, src/media,
+# src/core/prefault.cpp; the Debian tinygltf, tinyobjloader, tinyexr, Draco, meshoptimizer and
+# WebP libraries are linked as they are), replays every seed file of
 # tests/malformed/ and scenes/ (scenes and meshes) once at full size, then fuzzes from those
 # seeds for the given time with inputs up to 16 KiB. New interesting inputs go to
 # build-fuzz/corpus (kept between runs); a crashing, leaking or hanging input is saved under
@@ -37,7 +38,8 @@ FLAGS=(-std=c++20 -O1 -g -fno-omit-frame-pointer
 # OpenVDB's reader is left out (src/io/vdb_unavailable.cpp instead): .vdb files are OpenVDB's
 # own binary format, and a scene naming one still exercises the loader's refusal path.
 mapfile -t SOURCES < <(cd "$ROOT" && ls src/io/*.cpp src/scene/*.cpp src/geometry/*.cpp \
-                       src/lights/*.cpp src/materials/*.cpp src/media/*.cpp fuzz/scene_loader_fuzz.cpp \
+                       src/lights/*.cpp src/materials/*.cpp src/media/*.cpp src/core/prefault.cpp \
+                       fuzz/scene_loader_fuzz.cpp \
                        | grep -v -e '^src/io/vdb_io\.cpp$' -e '^src/io/vdb_loader\.cpp$')
 STAMP="$OUT/obj/.stamp"
 echo "$CXX ${FLAGS[*]}" > "$STAMP.new"
