@@ -11,3 +11,12 @@ for i in 1 2 3 4 5; do for b in base bin; do
   .device/$b/pathtracer benchmarks/scenes/breakfast_room_bunnies.json --spp 16 --bvh-build sah \
     --quiet -o /tmp/p.png --stats-json /tmp/b3_${b}_$i.json   # BASE: without --bvh-build (SAH)
 done; done
+# 3. pbrt-v4's box, where the regression stays (pbrt_probe.tar.gz), a later call on another
+#    H100: BASE, NEW, NEW under CUDA_MODULE_LOADING=EAGER, and both with --bvh binary, 5 rounds:
+for i in 1 2 3 4 5; do
+  .device/base/pathtracer ../shared/peer-scenes/pbrt_cornell.json --spp 1024 --quiet -o /tmp/p.png --stats-json /tmp/q_base_$i.json
+  .device/bin/pathtracer ../shared/peer-scenes/pbrt_cornell.json --spp 1024 --quiet -o /tmp/p.png --stats-json /tmp/q_new_$i.json
+  CUDA_MODULE_LOADING=EAGER .device/bin/pathtracer ../shared/peer-scenes/pbrt_cornell.json --spp 1024 --quiet -o /tmp/p.png --stats-json /tmp/q_eager_$i.json
+  .device/bin/pathtracer ../shared/peer-scenes/pbrt_cornell.json --spp 1024 --quiet --bvh binary -o /tmp/p.png --stats-json /tmp/q_newbin_$i.json
+  .device/base/pathtracer ../shared/peer-scenes/pbrt_cornell.json --spp 1024 --quiet --bvh binary -o /tmp/p.png --stats-json /tmp/q_basebin_$i.json
+done
