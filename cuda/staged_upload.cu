@@ -9,13 +9,15 @@
 #include <vector>
 
 #include "cuda/cuda_check.cuh"
+#include "src/core/parallel_ranges.h"
 
 namespace pt {
 namespace {
 
 constexpr size_t kChunk = size_t(16) << 20;
 constexpr int kBuffers = 3;
-constexpr unsigned kMaxThreads = 8;
+constexpr int kMaxThreads = 8;  // host threads filling a buffer
+constexpr size_t kMinFillPerThread = size_t(1) << 20;
 // An upload this big makes the buffers itself when they are not there (26-38 ms once, against
 // ~100 ms saved per GiB).
 constexpr size_t kAllocateForBytes = size_t(256) << 20;
@@ -80,7 +82,6 @@ class StagingPool {
     cudaEvent_t done[kBuffers];  // per call: events belong to the current device
     for (cudaEvent_t& e : done)
       CudaCheck(cudaEventCreateWithFlags(&e, cudaEventDisableTiming), "cudaEventCreate");
-    unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, kMaxThreads);
     size_t chunks = (bytes + kChunk - 1) / kChunk;
     cudaError_t err = cudaSuccess;
     for (size_t c = 0; c < chunks && err == cudaSuccess; ++c) {
@@ -88,25 +89,16 @@ class StagingPool {
       if (c >= size_t(kBuffers)) err = cudaEventSynchronize(done[k]);
       if (err != cudaSuccess) break;
       size_t at = c * kChunk, len = std::min(kChunk, bytes - at);
-      FillOnThreads(buffers_[size_t(k)], src + at, len, threads);
+      char* to = buffers_[size_t(k)];
+      ForRangesOnThreads(len, int(kMaxThreads), kMinFillPerThread, [&](size_t lo, size_t hi) {
+        std::memcpy(to + lo, src + at + lo, hi - lo);
+      });
       err = cudaMemcpyAsync(dst + at, buffers_[size_t(k)], len, cudaMemcpyHostToDevice, stream);
       if (err == cudaSuccess) err = cudaEventRecord(done[k], stream);
     }
     cudaError_t synced = cudaStreamSynchronize(stream);
     for (cudaEvent_t e : done) cudaEventDestroy(e);
     CudaCheck(err != cudaSuccess ? err : synced, "upload");
-  }
-
-  static void FillOnThreads(char* to, const char* from, size_t len, unsigned threads) {
-    std::vector<std::thread> workers;
-    for (unsigned j = 1; j < threads; ++j) {
-      workers.emplace_back([=] {
-        size_t lo = len * j / threads, hi = len * (j + 1) / threads;
-        std::memcpy(to + lo, from + lo, hi - lo);
-      });
-    }
-    std::memcpy(to, from, len / threads);
-    for (std::thread& w : workers) w.join();
   }
 
   std::mutex mutex_;        // the buffers: one upload at a time

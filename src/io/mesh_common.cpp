@@ -152,10 +152,14 @@ struct MeshSink::WorldTriangle {
 
 bool MeshSink::ToWorld(const vec3 p[3], Triangle& out) const {
   vec3 w[3];
-  for (int i = 0; i < 3; ++i) w[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(p[i]), 1.0));
+  for (int i = 0; i < 3; ++i) w[i] = WorldPosition(p[i]);
   if (IsDegenerateTriangle(w[0], w[1], w[2])) return false;
   out = Triangle{w[0], w[1], w[2]};
   return true;
+}
+
+vec3 MeshSink::WorldPosition(vec3 p) const {
+  return vec3(toWorld_ * glm::dvec4(glm::dvec3(p), 1.0));
 }
 
 vec3 MeshSink::WorldNormal(vec3 n, bool& valid) const {

@@ -124,6 +124,8 @@ class MeshSink {
   bool ToWorld(const vec3 p[3], Triangle& out) const;
   // The rest of a kept triangle's data in world space.
   void Convert(const VertexAttributes& attributes, WorldTriangle& out) const;
+  // One vertex's position in world space (double precision, rounded once to float).
+  vec3 WorldPosition(vec3 p) const;
   // One vertex's normal in world space, unit length; zero and `valid` false when it has none.
   vec3 WorldNormal(vec3 n, bool& valid) const;
   // One vertex's tangent in world space (unit xyz, w the bitangent's sign in world space).

@@ -88,7 +88,7 @@ void MeshSink::AddIndexed(const IndexedVertices& v, const std::vector<uint32_t>&
   if (has.tangents) w.tangents.resize(vertices);
   ForRangesOnThreads(vertices, 0, kMinPerThread, [&](size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; ++i) {
-      w.positions[i] = vec3(toWorld_ * glm::dvec4(glm::dvec3(v.positions[i]), 1.0));
+      w.positions[i] = WorldPosition(v.positions[i]);
       if (has.normals) {
         bool valid = false;
         w.normals[i] = WorldNormal(v.normals[i], valid);
