@@ -26,11 +26,11 @@ DEFAULT_SCENES = ("benchmarks/scenes/bunny_cornell.json:960x540,"
                   "benchmarks/scenes/damaged_helmet.json:960x540")
 
 
-def render(binary, scene, size, spp, seed, out, backend, denoise):
+def render(binary, scene, size, spp, seed, out, backend, denoise, extra=()):
     w, h = size.split("x")
     cmd = [binary, scene, "-o", out + ".pfm", "--hdr", out + ".exr", "--width", w, "--height", h,
            "--spp", str(spp), "--seed", str(seed), "--backend", backend, "--quiet",
-           "--stats-json", out + ".json"] + (["--denoise"] if denoise else [])
+           "--stats-json", out + ".json"] + (["--denoise"] if denoise else []) + list(extra)
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     return json.load(open(out + ".json"))["time_ms"]
 
@@ -66,6 +66,14 @@ def measure(args):
                 rows.append(dict(base, image="denoised",
                                  seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
                                  relmse=rel_mse(np, dn, r, noise, den)))
+                if args.outliers_off_too:  # the same samples, fireflies left as they are
+                    t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend,
+                               True, ["--denoise-outliers", "off"])
+                    img = read_exr(tmp + "/x.exr")
+                    dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
+                    rows.append(dict(base, image="outliers off",
+                                     seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
+                                     relmse=rel_mse(np, dn, r, noise, den)))
         print("%s: reference %d spp, own relMSE %.2e" % (scene, args.ref_spp,
                                                           float(np.mean(noise / den))))
         for f in os.listdir(tmp):
@@ -95,9 +103,15 @@ def table(rows, label):
              "or render + denoise)." % label, "",
              "| scene | spp | raw relMSE | raw s | denoised relMSE | denoised s |",
              "|---|---|---|---|---|---|"]
+    off = any(r["image"] == "outliers off" for r in rows)
+    if off:
+        lines[2] += " denoised, outliers off, relMSE |"
+        lines[3] += "---|"
     for scene, images in means(rows).items():
-        for (spp, ts, es), (_, td, ed) in zip(images["raw"], images["denoised"]):
+        for i, ((spp, ts, es), (_, td, ed)) in enumerate(zip(images["raw"], images["denoised"])):
             lines.append("| %s | %d | %.3e | %.3f | %.3e | %.3f |" % (scene, spp, es, ts, ed, td))
+            if off:
+                lines[-1] += " %.3e |" % images["outliers off"][i][2]
     return "\n".join(lines) + "\n"
 
 
@@ -137,6 +151,8 @@ def main():
     ap.add_argument("--out", default="out")
     ap.add_argument("--label", default="")
     ap.add_argument("--plot", help="plot this CSV instead of measuring")
+    ap.add_argument("--outliers-off-too", action="store_true",
+                    help="also denoise each film with --denoise-outliers off")
     args = ap.parse_args()
     if args.plot:
         return plot(args.plot)

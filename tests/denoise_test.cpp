@@ -120,6 +120,14 @@ TEST(Denoise, NoNanOrInfForAnyInput) {
     p.sigma = y % 3 ? big : 0.0f;
     return p;
   }));
+  // Black in both halves but with variance (a pixel's other samples were negative or the
+  // odd half's mean rounded to 0): no outlier scale of 0 / 0.
+  films.push_back(SyntheticImage(19, 13, 4, [&](int x, int) {
+    SyntheticPixel p;
+    p.color = vec3(x % 4 == 0 ? 50.0f : 0.0f);
+    return p;
+  }));
+  for (float& v : films.back().variance) v = 1.0f + 100.0f * u(rng);
   for (FilmImage& img : films) {
     for (size_t i = 0; i < img.variance.size(); i += 7) img.variance[i] = 0.0f;
     std::vector<float> out = DenoiseOnCpu(img);
@@ -164,6 +172,45 @@ TEST(Denoise, ReducesNoiseOnASmoothImage) {
         after += std::pow(out[i] - truth(x, y)[c], 2.0);
       }
   EXPECT_LT(after, before / 8.0);
+}
+
+// A firefly (one sample 2,000 times the image's level) in a smooth noisy image: scaled down to
+// its neighbourhood before filtering (nlm_outliers.h), so its energy reaches no neighbour;
+// without the outlier passes the filter spreads it over the pixels that accept it.
+TEST(Denoise, FireflyIsNotSpread) {
+  FilmImage img = SyntheticImage(41, 31, 16, [](int, int) {
+    SyntheticPixel p;
+    p.sigma = 0.2f;
+    return p;
+  }, 7);
+  AddFirefly(img, 20, 15, 1000.0f);
+  auto worst = [&](const std::vector<float>& out) {
+    float m = 0.0f;
+    for (float v : out) m = std::max(m, std::fabs(v - 0.5f));
+    return m;
+  };
+  float with = worst(DenoiseOnCpu(img));
+  DenoiseSettings off;
+  off.outliers = false;
+  float without = worst(DenoiseOnCpu(img, 2, off));
+  // The firefly adds 59 to its pixel's mean: spread, it lifts its neighbours by 0.3 (0.34
+  // measured); scaled down, what is left is the noise's own (0.07 measured).
+  EXPECT_LT(with, 0.15f) << without;
+  EXPECT_GT(without, 0.25f) << with;
+}
+
+// A bright spot whose variance says it is real (its reference level lies far outside 3
+// standard deviations) is a highlight, not an outlier: it keeps its value.
+TEST(Denoise, LowNoiseHighlightKeepsItsValue) {
+  FilmImage img = SyntheticImage(41, 31, 16, [](int x, int y) {
+    SyntheticPixel p;
+    bool spot = x >= 20 && x <= 21 && y >= 15 && y <= 16;
+    p.color = vec3(spot ? 20.0f : 0.5f);
+    p.sigma = spot ? 0.5f : 0.2f;
+    return p;
+  }, 8);
+  std::vector<float> out = DenoiseOnCpu(img);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[3 * (15 * 41 + 20) + c], 20.0f, 1.0f);
 }
 
 TEST(Denoise, RefusesAnImageWithoutHalvesOrFeaturesAndBadSettings) {

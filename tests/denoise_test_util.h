@@ -55,4 +55,23 @@ inline FilmImage SyntheticImage(int width, int height, uint32_t spp,
   return img;
 }
 
+// One extra sample of `value` (a firefly: a rare bright path) in pixel (x, y)'s even half,
+// the pixel's mean and variance updated as the film's running estimates would be.
+inline void AddFirefly(FilmImage& img, int x, int y, float value) {
+  size_t i = size_t(y) * size_t(img.width) + size_t(x);
+  uint32_t n = img.samples[i], even = img.evenSamples[i];
+  for (int c = 0; c < 3; ++c) {
+    float& mean = img.rgb[3 * i + c];
+    float& evenMean = img.evenRgb[3 * i + c];
+    float oldMean = mean;
+    mean = (float(n) * mean + value) / float(n + 1);
+    evenMean = (float(even) * evenMean + value) / float(even + 1);
+    // Welford's update of the (population) variance with the new sample.
+    float& var = img.variance[3 * i + c];
+    var = (float(n) * var + (value - oldMean) * (value - mean)) / float(n + 1);
+  }
+  img.samples[i] = n + 1;
+  img.evenSamples[i] = even + 1;
+}
+
 }  // namespace pt::test

@@ -249,6 +249,10 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
          o.warmUp = ParseChoice<Toggle>(
              s, {{"on", Toggle::kOn}, {"off", Toggle::kOff}, {"auto", Toggle::kAuto}});
        }},
+      {"--denoise-outliers",
+       [](CliOptions& o, ValueSource& s) {
+         o.denoiseOutliers = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

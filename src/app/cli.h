@@ -88,6 +88,7 @@ struct CliOptions {
   DisplaySettings display;
 
   bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
+  bool denoiseOutliers = true;  // --denoise-outliers on|off: fireflies scaled down first
 
   bool quiet = false;
   bool help = false;

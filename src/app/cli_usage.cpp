@@ -21,6 +21,8 @@ Outputs
   --denoise                denoise -o (NL-means on the two half films, guided by albedo,
                            normal and depth; docs/denoise.md); an --hdr EXR keeps the raw
                            image and gains denoised.R/G/B
+  --denoise-outliers on|off  scale fireflies down to their neighbourhood before denoising
+                           (Cycles' outlier detection; default on)
 
 Image and sampling
   --spp N                  samples per pixel

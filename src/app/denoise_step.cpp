@@ -15,7 +15,9 @@ std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind bac
   DenoiserFactory make = cuda ? backends.cudaDenoiser : backends.cpuDenoiser;
   if (!make) throw AppFailure{kExitRuntimeFailure, "--denoise: this build has no denoiser here"};
   try {
-    return make(cuda ? device : cli.threads, DenoiseSettings{});
+    DenoiseSettings settings;
+    settings.outliers = cli.denoiseOutliers;
+    return make(cuda ? device : cli.threads, settings);
   } catch (const BackendUnavailable& e) {
     throw AppFailure{kExitRuntimeFailure, std::string("--denoise: ") + e.what()};
   }

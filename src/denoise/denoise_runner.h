@@ -12,6 +12,7 @@
 
 #include "src/denoise/denoise_settings.h"
 #include "src/denoise/denoiser.h"
+#include "src/denoise/nlm_outliers.h"
 #include "src/denoise/nlm_stages.h"
 #include "src/integrator/render_api.h"
 #include "src/integrator/stage_id.h"
@@ -118,6 +119,7 @@ class DenoiseRunner {
                     evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
     backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
                          [=] PT_HD(uint32_t i) { DenoiseFillPixel(d, in, i); });
+    if (s.outliers) Outliers();
     float tau = s.featureTau;
     backend_.ParallelFor(Stage::kAccumulate, d.stride * (d.rows - 2),
                          [=] PT_HD(uint32_t i) { DenoiseFeatureScalePixel(d, tau, i); });
@@ -126,6 +128,22 @@ class DenoiseRunner {
       bandwidths_.color[k] = 1.0f / (c.colorK * c.colorK);
       bandwidths_.feature[k] = 1.0f / (c.featureK * c.featureK);
     }
+  }
+
+  // Fireflies scaled down in each half (nlm_outliers.h).
+  void Outliers() {
+    DenoisePlanes d = planes_;
+    size_t first = size_t(d.padY) * d.stride;
+    backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
+                         [=] PT_HD(uint32_t i) { DenoiseOutlierLumPixel(d, i); });
+    backend_.ParallelFor(Stage::kAccumulate, d.height * d.stride, [=] PT_HD(uint32_t i) {
+      DenoiseOutlierDetectPixel(d, first + size_t(i));
+    });
+    backend_.ParallelFor(Stage::kAccumulate, d.height * d.stride, [=] PT_HD(uint32_t i) {
+      DenoiseOutlierResolvePixel(d, first + size_t(i));
+    });
+    backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
+                         [=] PT_HD(uint32_t i) { DenoiseOutlierApplyPixel(d, i); });
   }
 
   // A group of offsets over the image rows [r0, r1): distances over the rows the patches

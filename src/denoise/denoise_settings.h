@@ -23,6 +23,9 @@ struct DenoiseSettings {
   int selectRadius = 3;
   // The smallest squared feature gradient a feature difference is measured against (tau).
   float featureTau = 1e-3f;
+  // Fireflies scaled down to their neighbourhood's level before filtering (nlm_outliers.h,
+  // Cycles' outlier detection): biased, and far less error where rare bright paths are.
+  bool outliers = true;
 };
 
 // The settings a denoiser accepts; returns an empty string, or what is wrong.
