@@ -71,16 +71,17 @@ class ShadeLauncher {
   }
 
   // Shades queue[0, n) after intersect wrote KeyOutput(mode); returns the paths it ordered.
-  uint32_t Shade(SortMode mode, FeatureClass c, bool envMap, const WaveInfo& wave,
+  // flat: the scene has no vertex normals and no light tree (ShadeSurface's kFlat).
+  uint32_t Shade(SortMode mode, FeatureClass c, bool envMap, bool flat, const WaveInfo& wave,
                  const Inputs& in, const uint32_t* queue, uint32_t n) {
     if (n == 0) return 0;
     if (mode == SortMode::kOff) {
-      ShadeClass(c, envMap, wave, in, queue, n);
+      ShadeClass(c, envMap, flat, wave, in, queue, n);
       return 0;
     }
     Order(queue, n);
     if (mode == SortMode::kMaterial) {
-      ShadeClass(c, envMap, wave, in, orderedSlots_.Data(), n);
+      ShadeClass(c, envMap, flat, wave, in, orderedSlots_.Data(), n);
     } else {
       FindQueueRanges(n);
       switch (QueueClass(c)) {
@@ -120,15 +121,20 @@ class ShadeLauncher {
     });
   }
 
-  void ShadeClass(FeatureClass c, bool envMap, const WaveInfo& wave, const Inputs& in,
+  // The diffuse and smooth classes have a flat copy for scenes without an environment map
+  // (boxes of quads and spheres): the curved-shading fold's registers cost every shaded path
+  // (the Cornell box's shade stage 7.41 -> 6.87 ms on an H100, benchmarks/RESULTS.md).
+  void ShadeClass(FeatureClass c, bool envMap, bool flat, const WaveInfo& wave, const Inputs& in,
                   const uint32_t* order, uint32_t n) {
     switch (c) {
       case FeatureClass::kDiffuse:
         if (envMap) ShadeAll<FeatureClass::kDiffuse, true>(wave, in, order, n);
+        else if (flat) ShadeAll<FeatureClass::kDiffuse, false, true>(wave, in, order, n);
         else ShadeAll<FeatureClass::kDiffuse, false>(wave, in, order, n);
         break;
       case FeatureClass::kSmooth:
         if (envMap) ShadeAll<FeatureClass::kSmooth, true>(wave, in, order, n);
+        else if (flat) ShadeAll<FeatureClass::kSmooth, false, true>(wave, in, order, n);
         else ShadeAll<FeatureClass::kSmooth, false>(wave, in, order, n);
         break;
       case FeatureClass::kLayered: ShadeAll<FeatureClass::kLayered, true>(wave, in, order, n); break;
@@ -136,11 +142,12 @@ class ShadeLauncher {
     }
   }
 
-  template <FeatureClass C, bool kMap>
+  template <FeatureClass C, bool kMap, bool kFlat = false>
   void ShadeAll(const WaveInfo& wave, const Inputs& in, const uint32_t* order, uint32_t n) {
     Inputs inputs = in;
     backend_.ParallelFor(Stage::kShade, n, [=] PT_HD(uint32_t i) {
-      ShadePath<C, kAnyQueue, kMap>(inputs.scene, inputs.params, wave, inputs.ps, order[i]);
+      ShadePath<C, kAnyQueue, kMap, kFlat>(inputs.scene, inputs.params, wave, inputs.ps,
+                                           order[i]);
     });
   }
 

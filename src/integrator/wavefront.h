@@ -307,7 +307,12 @@ class WavefrontIntegrator {
     }
     typename ShadeLauncher<Backend>::Inputs in{sceneBuffers_.view, params_, pathState_};
     stats_.pathsOrdered +=
-        shade_.Shade(sortMode_, featureClass_, envMap_, wave, in, queue, n);
+        shade_.Shade(sortMode_, featureClass_, envMap_, FlatShading(), wave, in, queue, n);
+  }
+
+  // No vertex normals and no light tree: the shade variants without their code.
+  bool FlatShading() const {
+    return sceneBuffers_.view.triangleNormals == nullptr && !UsesLightTree(sceneBuffers_.view);
   }
 
   // Shadow: any-hit test for each queued shadow ray (media scenes: with transmittance).

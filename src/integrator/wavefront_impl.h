@@ -62,7 +62,10 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
               options_.triangleTest == TriangleTest::kBoxClamped;
-  stats_.specialization = FeatureClassName(featureClass_);
+  const bool flatVariant = !media_.Active() && !envMap_ && FlatShading() &&
+                           (featureClass_ == FeatureClass::kDiffuse ||
+                            featureClass_ == FeatureClass::kSmooth);
+  stats_.specialization = std::string(FeatureClassName(featureClass_)) + (flatVariant ? "-flat" : "");
   media_.SetEstimator(options_.transmittance == TransmittanceMode::kDelta
                           ? TransmittanceEstimator::kDelta
                           : TransmittanceEstimator::kRatio);

@@ -45,7 +45,7 @@ PT_HDI void ShadeMediumScenePath(const SceneView& scene, const MediaView& mv,
     ShadeEscaped<kMap>(scene, params, ps, id, v);
     return;
   }
-  ShadeSurface<C, kAnyQueue, kMap>(scene, params, wave, ps, id, v);
+  ShadeSurface<C, kAnyQueue, kMap, false>(scene, params, wave, ps, id, v);
   UpdateSurfaceMedia(scene, mv, ps, ms, id, v.ray, hit);
 }
 

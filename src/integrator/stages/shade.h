@@ -120,7 +120,7 @@ PT_HDI void TerminatePath(PathState ps, uint32_t id, uint32_t flags, vec3 radian
 
 // Next-event estimation at a non-delta vertex: sample a light, and queue the shadow ray that
 // decides whether its (MIS-weighted) contribution counts.
-template <FeatureClass C, uint32_t Q, bool kMap>
+template <FeatureClass C, uint32_t Q, bool kMap, bool kFlat>
 PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& params,
                              const SurfaceInteraction& si, const HitMaterial<C>& mat,
                              const Frame& frame, vec3 woLocal, float woDotNg, vec3 beta, vec4 u,
@@ -131,7 +131,7 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
     return false;
   vec3 wiLocal = frame.ToLocal(ls.wi);
   const bool mis = !ls.isDelta && params.kind == IntegratorKind::kMis;
-  const bool flat = ShadingNormalIsGeometric(si);
+  const bool flat = kFlat || ShadingNormalIsGeometric(si);
   float foldedPdf = 0.0f;
   vec3 f;
   if (flat) {
@@ -157,7 +157,7 @@ PT_HDI bool QueueLightSample(const SceneView& scene, const IntegratorParams& par
 }
 
 // Samples the BSDF for the continuation ray. Returns false when the path ends here.
-template <FeatureClass C, uint32_t Q>
+template <FeatureClass C, uint32_t Q, bool kFlat>
 PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteraction& si,
                          const HitMaterial<C>& mat, const Frame& frame, vec3 wo, vec3 woLocal, vec4 u,
                          uint32_t depth, vec3* beta, uint32_t* flags, PathState ps, uint32_t id) {
@@ -166,7 +166,7 @@ PT_HDI bool ContinuePath(const IntegratorParams& params, const SurfaceInteractio
     return false;
   vec3 wi = frame.FromLocal(bs.wi);
   float pdf = bs.pdf;
-  if (ShadingNormalIsGeometric(si)) {
+  if (kFlat || ShadingNormalIsGeometric(si)) {
     if (!GeometricallyConsistent(si, glm::dot(wo, si.ng), wi, !bs.isTransmission)) return false;
     *beta *= bs.f * (fabsf(bs.wi.z) / bs.pdf);
   } else {  // curved shading: a ray the geometry disputes is mirrored, not lost (normal_fold.h)
@@ -253,7 +253,9 @@ PT_HDI void ShadeEscaped(const SceneView& scene, const IntegratorParams& params,
 }
 
 // A surface hit: emission, next-event estimation, the continuation ray.
-template <FeatureClass C, uint32_t Q, bool kMap>
+// kFlat: every shading normal is the geometric one (no vertex normals) and no light tree picks
+// the lights, so the curved-shading fold and the tree's receiver code are compiled out.
+template <FeatureClass C, uint32_t Q, bool kMap, bool kFlat>
 PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
                          const WaveInfo& wave, PathState ps, uint32_t id, PathVertex v) {
   SurfaceInteraction si = MakeInteraction(scene, v.ray, v.hit);
@@ -264,7 +266,8 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   if (IsType<Q>(mat, MaterialType::kEmissive)) {  // emitters reflect nothing
     vec3 le = EmittedRadiance(mat, si.ng, wo);
     if (!IsBlack(le) && si.light >= 0 && params.Counts(v.depth)) {
-      LightRef from = PrevVertexRef(scene, ps, id, v.flags, v.ray.o);
+      LightRef from = kFlat ? ReceiverRef(v.ray.o, kNoReceiver)
+                            : PrevVertexRef(scene, ps, id, v.flags, v.ray.o);
       float lightPdf = HitNeedsLightPdf(params.kind, v.flags)
                            ? LightPdf<kMap>(scene, si.light, from, si.p, si.ng) : 0.0f;
       v.radiance += v.beta * le * EmitterHitWeight(params.kind, v.flags, v.prevPdf, lightPdf);
@@ -283,33 +286,33 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   }
 
   // Smooth and normal-mapped shading: the viewer must see the front of the shading normal.
-  si.ns = ViewValidShadingNormal(si, wo);
+  if constexpr (!kFlat) si.ns = ViewValidShadingNormal(si, wo);
   Frame frame = Frame::FromZ(si.ns);
   LocalizeMaterial<C>(frame, &mat);
   vec3 woLocal = frame.ToLocal(wo);
   RngKey key = wave.KeyOf(id);
   uint32_t flags = v.flags;
-  uint32_t receiver = SurfaceReceiver(scene, si, wo, mat);  // light BVH only
+  uint32_t receiver = kFlat ? kNoReceiver : SurfaceReceiver(scene, si, wo, mat);  // light BVH
   if (params.kind != IntegratorKind::kBsdf && params.Counts(v.depth + 1) &&
       HasNonDeltaLobeFor<C, Q>(mat)) {
     vec4 uLight = key.Draw4(v.depth, kDimLight);
-    if (QueueLightSample<C, Q, kMap>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
+    if (QueueLightSample<C, Q, kMap, kFlat>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
                                v.beta, uLight, ps, id, receiver))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(v.depth, kDimBsdf);
-  bool alive = ContinuePath<C, Q>(params, si, mat, frame, wo, woLocal, uBsdf, v.depth, &v.beta,
+  bool alive = ContinuePath<C, Q, kFlat>(params, si, mat, frame, wo, woLocal, uBsdf, v.depth, &v.beta,
                                   &flags, ps, id);
   ps.throughput[id] = v.beta;
   ps.radiance[id] = v.radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
-  if (alive && UsesLightTree(scene)) ps.prevNormal[id] = receiver;
+  if (!kFlat && alive && UsesLightTree(scene)) ps.prevNormal[id] = receiver;
 }
 
 // Shades path id in the variant of feature class C; Q: the shade queue the kernel serves
 // (every path in it escaped, or hit a material of its type), or kAnyQueue; kMap: whether the
-// scene has an environment map (its code is compiled out otherwise).
-template <FeatureClass C, uint32_t Q, bool kMap = true>
+// scene has an environment map (its code is compiled out otherwise); kFlat: see ShadeSurface.
+template <FeatureClass C, uint32_t Q, bool kMap = true, bool kFlat = false>
 PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
                       const WaveInfo& wave, PathState ps, uint32_t id) {
   uint32_t flags = ps.flags[id];
@@ -327,7 +330,8 @@ PT_HDI void ShadePath(const SceneView& scene, const IntegratorParams& params,
     ShadeEscaped<kMap>(scene, params, ps, id, v);
     return;
   }
-  if constexpr (Q != kEscapedQueue) ShadeSurface<C, Q, kMap>(scene, params, wave, ps, id, v);
+  if constexpr (Q != kEscapedQueue)
+    ShadeSurface<C, Q, kMap, kFlat>(scene, params, wave, ps, id, v);
 }
 
 }  // namespace pt
