@@ -66,7 +66,11 @@ if [[ " $STEPS " == *" time "* ]]; then
       awk -v r=$run '{printf "DENOISE_TIME gpu run %d: %s total %.1f ms, passes %.1f ms\n", r, $1, $2 * 1000, $3}'
   done
   rm -f "$OUT"/time_*.png
-  echo "-- 2 CPU cores (taskset 0,1; --threads 2)"
+  # Which tile code the CPU denoiser runs here, and whether cores 0 and 1 are one core's two
+  # hyperthreads (then "2 cores" are one).
+  isa=$(grep -qw avx512f /proc/cpuinfo && echo "AVX-512 code" || echo "x86-64-v3 code")
+  siblings=$(cat /sys/devices/system/cpu/cpu0/topology/thread_siblings_list 2>/dev/null)
+  echo "-- 2 CPU cores (taskset 0,1; --threads 2; $isa; cpu0's SMT siblings: ${siblings:-?})"
   for run in 1 2; do
     taskset -c 0,1 "$PT" benchmarks/scenes/bunny_cornell.json --spp 1 --denoise --backend cpu \
       --threads 2 -o "$OUT/time_cpu.png" --quiet 2>&1 | denoise_times |

@@ -88,6 +88,17 @@ class CpuBackend {
     AddTime(stage, t0);
   }
 
+  // body(t) for t in [0, n), each a task of its own that a free thread takes: coarse work
+  // that balances itself (the denoiser's tiles, taken from a counter by ThreadCount() tasks).
+  template <typename F>
+  void ParallelTasks(Stage stage, uint32_t n, const F& body) {
+    auto t0 = Clock::now();
+    pool_.Run(n, [&body](uint32_t begin, uint32_t end) {
+      for (uint32_t t = begin; t < end; ++t) body(t);
+    }, 1);
+    AddTime(stage, t0);
+  }
+
   // body(i) for i in [range[0], range[1]): a shade queue's kernel, its range found by an
   // earlier stage (read here on the host; the CUDA backend reads it on the device).
   template <typename F>

@@ -26,11 +26,11 @@ void ThreadPool::DrainChunks() {
   }
 }
 
-void ThreadPool::RunErased(uint32_t n, ChunkFn fn, const void* ctx) {
+void ThreadPool::RunErased(uint32_t n, ChunkFn fn, const void* ctx, uint32_t chunk) {
   if (n == 0) return;
   // Small chunks balance the load (paths differ in cost); not so small that the shared
   // counter becomes the bottleneck.
-  uint32_t chunk = std::clamp<uint32_t>(n / (uint32_t(Size()) * 16), 16, 1024);
+  if (chunk == 0) chunk = std::clamp<uint32_t>(n / (uint32_t(Size()) * 16), 16, 1024);
   if (workers_.empty() || n <= chunk) {
     fn(ctx, 0, n);
     return;

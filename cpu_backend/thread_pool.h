@@ -20,16 +20,17 @@ class ThreadPool {
 
   int Size() const { return int(workers_.size()) + 1; }  // the caller works too
 
-  // Calls body(begin, end) over chunks of [0, n) and returns when all are done.
+  // Calls body(begin, end) over chunks of [0, n) and returns when all are done. chunk 0
+  // picks a size; 1 hands out one item at a time (a few coarse tasks).
   template <typename F>
-  void Run(uint32_t n, const F& body) {
+  void Run(uint32_t n, const F& body, uint32_t chunk = 0) {
     RunErased(n, [](const void* ctx, uint32_t b, uint32_t e) { (*static_cast<const F*>(ctx))(b, e); },
-              &body);
+              &body, chunk);
   }
 
  private:
   using ChunkFn = void (*)(const void*, uint32_t, uint32_t);
-  void RunErased(uint32_t n, ChunkFn fn, const void* ctx);
+  void RunErased(uint32_t n, ChunkFn fn, const void* ctx, uint32_t chunk);
   void WorkerLoop();
   void DrainChunks();
 

@@ -12,7 +12,7 @@ namespace {
 class CudaDenoiser final : public Denoiser {
  public:
   CudaDenoiser(int device, const DenoiseSettings& settings)
-      : backend_(device), runner_(backend_, 0), settings_(settings) {}
+      : backend_(device), runner_(backend_), settings_(settings) {}
 
   void Denoise(FilmImage& image) override {
     backend_.BindThread();  // the calling thread may not be the one that made it

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "src/denoise/denoiser.h"
@@ -150,6 +151,40 @@ TEST(Denoise, DeterministicAcrossRunsAndThreads) {
   EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 1)));
   EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 2)));
   EXPECT_TRUE(BitIdentical(one, DenoiseOnCpu(img, 5)));
+}
+
+// The CPU's loop order and vector code change nothing: tiles of any shape (each tile computes
+// the distances its patches reach past its edge anew, each task into planes of its own) and
+// the x86-64-v3 and AVX-512 code give the image bit for bit, for every patch size and windows
+// whose last group of offsets is full or not.
+TEST(Denoise, SameImageForAnyTilingAndVectorCode) {
+  FilmImage img = SyntheticImage(150, 37, 8, [](int x, int y) {
+    SyntheticPixel p;
+    p.color = vec3(0.1f * float(x % 11), 0.4f + 0.01f * float(y), float((x + y) % 3));
+    p.albedo = vec3(x < 60 ? 0.2f : 0.8f, 0.5f, y < 20 ? 0.3f : 0.6f);
+    p.depth = 2.0f + 0.05f * float(x % 17);
+    p.sigma = 0.4f;
+    return p;
+  });
+  const CpuDenoiseOptions options[] = {
+      {32, 128, true}, {32, 128, false}, {1, 8, true}, {7, 16, false}, {5, 1000, true}};
+  for (int patch = 0; patch <= 3; ++patch) {
+    DenoiseSettings s;
+    s.patchRadius = patch;
+    s.radius = patch == 2 ? 4 : 7;  // 9 or 15 offsets a row: a group of 1 or of 7 last
+    auto run = [&](const CpuDenoiseOptions& o, int threads) {
+      FilmImage copy = img;
+      MakeCpuDenoiserWith(threads, s, o)->Denoise(copy);
+      return copy.denoised;
+    };
+    std::vector<float> whole = run({0, 0, false}, 1);
+    for (const CpuDenoiseOptions& o : options) {
+      EXPECT_TRUE(BitIdentical(whole, run(o, 3)))
+          << "patch " << patch << ", tiles " << o.tileRows << "x" << o.tileColumns
+          << (o.avx512 ? ", AVX-512 if here" : ", x86-64-v3");
+    }
+  }
+  if (!CpuDenoiserHasAvx512()) std::printf("(no AVX-512 on this host: its code did not run)\n");
 }
 
 // Noise is what it removes: on a smooth image with noise the error to the truth drops by far

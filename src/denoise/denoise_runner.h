@@ -6,12 +6,14 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
 
 #include "src/denoise/denoise_settings.h"
 #include "src/denoise/denoiser.h"
+#include "src/denoise/denoise_tiles.h"
 #include "src/denoise/nlm_outliers.h"
 #include "src/denoise/nlm_stages.h"
 #include "src/integrator/render_api.h"
@@ -25,10 +27,10 @@ class DenoiseRunner {
   template <typename T>
   using Buffer = typename Backend::template Buffer<T>;
 
-  // bandRows: the rows each group of per-offset passes covers (0: the whole image at once).
-  // On the CPU a band's planes stay in the caches across the offsets; a GPU wants every
-  // pixel in each launch.
-  DenoiseRunner(Backend& backend, uint32_t bandRows) : backend_(backend), bandRows_(bandRows) {}
+  // A GPU runs each pass over the whole image (it wants every pixel in each launch); the CPU
+  // (Backend::kHostMemory) runs them tile by tile as `tiling` says (denoise_tiles.h).
+  explicit DenoiseRunner(Backend& backend, const DenoiseTiling& tiling = {})
+      : backend_(backend), tiling_(tiling) {}
 
   // image.denoised := the filtered image. Throws std::invalid_argument on a bad image or
   // settings.
@@ -41,13 +43,12 @@ class DenoiseRunner {
     backend_.Synchronize();
     double before = backend_.Times().accumulate;
     Fill(settings);
-    for (uint32_t r0 = 0; r0 < planes_.height; r0 += Band()) {
-      uint32_t r1 = std::min(planes_.height, r0 + Band());
+    if constexpr (Backend::kHostMemory) {
+      Tiles(settings);
+    } else {
       for (int dy = -settings.radius; dy <= settings.radius; ++dy) {
         for (int dx = -settings.radius; dx <= settings.radius; dx += kDenoiseGroup) {
-          DenoiseOffsets group{ptrdiff_t(dy) * ptrdiff_t(planes_.stride), dx,
-                               std::min(kDenoiseGroup, settings.radius - dx + 1)};
-          Offsets(r0, r1, group, settings);
+          Offsets(0, planes_.height, Group(dy, dx, settings), settings);
         }
       }
     }
@@ -60,7 +61,11 @@ class DenoiseRunner {
 
   // The steps of Run, public because nvcc's extended lambdas may not live in private member
   // functions.
-  uint32_t Band() const { return bandRows_ ? bandRows_ : planes_.height; }
+  // The group of offsets (dy, dx .. dx + 7), within the window.
+  DenoiseOffsets Group(int dy, int dx, const DenoiseSettings& s) const {
+    return DenoiseOffsets{ptrdiff_t(dy) * ptrdiff_t(planes_.stride), dx,
+                          std::min(kDenoiseGroup, s.radius - dx + 1)};
+  }
 
   // The padded planes, one allocation.
   void Layout(uint32_t width, uint32_t height, const DenoiseSettings& s) {
@@ -72,11 +77,20 @@ class DenoiseRunner {
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
     size_t plane = size_t(d.stride) * d.rows;
-    constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + 2 * kDenoiseGroup +
-                               kDenoiseCandidates * (2 * 4 + 1);
-    if (store_.Size() != plane * kPlanes) {
-      store_.Resize(plane * kPlanes);
-      store_.Zero();  // padding the passes read but never write stays finite
+    constexpr size_t kDist = 2 * kDenoiseGroup;
+    constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + kDenoiseCandidates * (2 * 4 + 1);
+    // The CPU's distance planes: each task's own, over a tile's rows and the patches' reach.
+    size_t dist = kDist * plane;
+    if constexpr (Backend::kHostMemory) {
+      tasks_ = uint32_t(backend_.ThreadCount());
+      distRegion_ = size_t(TileRows() + 2 * s.patchRadius) * d.stride + 2 * s.patchRadius;
+      dist = kDist * distRegion_ * tasks_;
+    }
+    if (store_.Size() != plane * kPlanes + dist) {
+      store_.Resize(plane * kPlanes + dist);
+      // The GPU's whole-image passes read distances at the edge they never wrote: zeros keep
+      // them finite. The CPU's tiles read only what they wrote (and zeroing 400 MB costs).
+      if constexpr (!Backend::kHostMemory) store_.Zero();
     }
     float* next = store_.Data();
     auto take = [&] {
@@ -87,7 +101,9 @@ class DenoiseRunner {
     for (int h = 0; h < kDenoiseHalves; ++h) {
       for (int c = 0; c < 3; ++c) d.half[h][c] = take();
       for (int c = 0; c < 3; ++c) d.halfVar[h][c] = take();
-      for (int g = 0; g < kDenoiseGroup; ++g) d.dist[g][h] = take();
+      if constexpr (!Backend::kHostMemory) {
+        for (int g = 0; g < kDenoiseGroup; ++g) d.dist[g][h] = take();
+      }
     }
     for (int k = 0; k < kDenoiseCandidates; ++k) {
       for (int h = 0; h < kDenoiseHalves; ++h)
@@ -100,6 +116,7 @@ class DenoiseRunner {
       d.featureScale[c] = take();
     }
     d.depth = take();
+    distStore_ = next;  // the tasks' distance planes, last (Tiles points below them)
   }
 
   void Upload(const FilmImage& image) {
@@ -177,6 +194,39 @@ class DenoiseRunner {
     });
   }
 
+  uint32_t TileRows() const {
+    return tiling_.rows ? std::min(tiling_.rows, planes_.height) : planes_.height;
+  }
+  uint32_t TileColumns() const { return tiling_.columns ? tiling_.columns : planes_.stride; }
+
+  // The CPU's order (denoise_tiles.h): one task per thread takes bands of tile rows from a
+  // counter. A task has its own distance planes, so no two threads write one value (a tile's
+  // distances reach into its neighbours'); each pixel's sums take the offsets in the GPU's
+  // order, so the image is the same for any tiling and thread count.
+  void Tiles(const DenoiseSettings& s) {
+    uint32_t bands = (planes_.height + TileRows() - 1) / TileRows();
+    DenoiseBandFn run = tiling_.bands[size_t(std::min(s.patchRadius, 3))];
+    std::atomic<uint32_t> next{0};
+    backend_.ParallelTasks(Stage::kAccumulate, tasks_, [&](uint32_t task) {
+      DenoiseBand band{planes_, bandwidths_, 0, 0, TileColumns(), s.radius};
+      for (uint32_t b; (b = next.fetch_add(1, std::memory_order_relaxed)) < bands;) {
+        band.r0 = b * TileRows();
+        band.r1 = std::min(planes_.height, band.r0 + TileRows());
+        // The task's planes placed where the bodies look for them: rows r0 - f .. r1 + f - 1
+        // and f more floats either side (f the patch radius). Within store_: they are last.
+        size_t f = size_t(s.patchRadius);
+        size_t origin = (band.r0 + planes_.padY - f) * planes_.stride - f;
+        for (int g = 0; g < kDenoiseGroup; ++g) {
+          for (int h = 0; h < kDenoiseHalves; ++h) {
+            size_t plane = (size_t(task) * kDenoiseGroup + size_t(g)) * kDenoiseHalves + size_t(h);
+            band.d.dist[g][h] = distStore_ + plane * distRegion_ - origin;
+          }
+        }
+        run(band);
+      }
+    });
+  }
+
   // Each candidate's error, then each pixel's choice and value.
   void Finish(FilmImage& image, const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
@@ -197,7 +247,10 @@ class DenoiseRunner {
 
  private:
   Backend& backend_;
-  uint32_t bandRows_;
+  DenoiseTiling tiling_;
+  uint32_t tasks_ = 1;       // CPU: the tasks that take bands (one per thread)
+  size_t distRegion_ = 0;    // CPU: the floats of one task's distance plane
+  float* distStore_ = nullptr;
   double passesMs_ = 0.0;
   DenoisePlanes planes_{};
   DenoiseBandwidths bandwidths_{};

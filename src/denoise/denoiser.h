@@ -4,6 +4,7 @@
 // The method and its parameters: docs/denoise.md, src/denoise/nlm_stages.h.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -32,6 +33,19 @@ std::string DenoiseInputProblem(const FilmImage& image);
 // or no GPU is present.
 std::unique_ptr<Denoiser> MakeCpuDenoiser(int threads, const DenoiseSettings& settings = {});
 std::unique_ptr<Denoiser> MakeCudaDenoiser(int device, const DenoiseSettings& settings = {});
+
+// The CPU denoiser's loop order and vector code (cpu_backend/denoise_cpu.cpp), for tests and
+// benchmarks: tiles of tileRows x tileColumns padded pixels (0: the whole image) and AVX-512
+// code where the host has it (else x86-64-v3). The image is the same bit for bit whatever
+// they are.
+struct CpuDenoiseOptions {
+  uint32_t tileRows = 32, tileColumns = 128;
+  bool avx512 = true;
+};
+std::unique_ptr<Denoiser> MakeCpuDenoiserWith(int threads, const DenoiseSettings& settings,
+                                              const CpuDenoiseOptions& options);
+// Whether the host runs the CPU denoiser's AVX-512 code.
+bool CpuDenoiserHasAvx512();
 
 using DenoiserFactory = std::unique_ptr<Denoiser> (*)(int, const DenoiseSettings&);
 

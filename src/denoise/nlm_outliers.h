@@ -25,28 +25,31 @@ constexpr int kOutlierRank = kOutlierCount * 3 / 4;
 // Absolute offsets that keep (almost) black areas from false positives, radiance units.
 constexpr float kOutlierLumOffset = 1e-5f, kOutlierVarOffset = 1.1e-4f;
 
-// The planes the outlier passes use: each half's luminance and mean variance, the colour's
-// scale (1 where no outlier; 0 from Detect where Resolve must look) and the variance an
-// outlier takes (negative: its own, scaled with the colour). Borrowed from the per-offset
-// distance planes, which the NL-means passes fill later.
-PT_HDI float* OutlierLum(const DenoisePlanes& d, int h) { return d.dist[0][h]; }
-PT_HDI float* OutlierVar(const DenoisePlanes& d, int h) { return d.dist[1][h]; }
-PT_HDI float* OutlierScale(const DenoisePlanes& d, int h) { return d.dist[2][h]; }
-PT_HDI float* OutlierNewVar(const DenoisePlanes& d, int h) { return d.dist[3][h]; }
+// The planes the outlier passes use: each half's luminance, the colour's scale (1 where no
+// outlier; 0 from Detect where Resolve must look) and the variance an outlier takes
+// (negative: its own, scaled with the colour). Borrowed from planes the later passes fill
+// (the feature scales, the candidates' error estimates) and no pass reads before then: the
+// CPU keeps no whole-image distance planes (denoise_tiles.h).
+PT_HDI float* OutlierLum(const DenoisePlanes& d, int h) { return d.featureScale[h]; }
+PT_HDI float* OutlierScale(const DenoisePlanes& d, int h) {
+  return h == 0 ? d.featureScale[2] : d.error[0];
+}
+PT_HDI float* OutlierNewVar(const DenoisePlanes& d, int h) { return d.error[1 + h]; }
+static_assert(kDenoiseCandidates >= 3, "the outlier passes borrow three error planes");
 
-// Pass O1, per padded pixel: each half's luminance (the mean of its non-negative channels)
-// and the mean of its channels' variances.
+// The mean of a half's channel variances at p.
+PT_HDI float MeanHalfVar(const DenoisePlanes& d, int h, size_t p) {
+  return (d.halfVar[h][0][p] + d.halfVar[h][1][p] + d.halfVar[h][2][p]) * (1.0f / 3.0f);
+}
+
+// Pass O1, per padded pixel: each half's luminance (the mean of its non-negative channels).
 PT_HDI void DenoiseOutlierLumPixel(const DenoisePlanes& d, size_t p) {
   PT_DENOISE_UNROLL
   for (int h = 0; h < kDenoiseHalves; ++h) {
-    float lum = 0.0f, var = 0.0f;
+    float lum = 0.0f;
     PT_DENOISE_UNROLL
-    for (int c = 0; c < 3; ++c) {
-      lum += DenoiseMax(d.half[h][c][p], 0.0f);
-      var += d.halfVar[h][c][p];
-    }
+    for (int c = 0; c < 3; ++c) lum += DenoiseMax(d.half[h][c][p], 0.0f);
     OutlierLum(d, h)[p] = lum * (1.0f / 3.0f);
-    OutlierVar(d, h)[p] = var * (1.0f / 3.0f);
   }
 }
 
@@ -87,7 +90,7 @@ PT_HDI float KthSmallest(float* v, int n, int k) {
 // One half of a flagged pixel: the reference, the variance test, the scale and new variance.
 PT_HDI void ResolveOutlier(const DenoisePlanes& d, int h, size_t p) {
   ptrdiff_t stride = ptrdiff_t(d.stride);
-  const float *lum = OutlierLum(d, h), *var = OutlierVar(d, h);
+  const float* lum = OutlierLum(d, h);
   float values[kOutlierCount];
   float maxVar = 0.0f;
   int n = 0;
@@ -95,12 +98,12 @@ PT_HDI void ResolveOutlier(const DenoisePlanes& d, int h, size_t p) {
     for (int dx = -kOutlierRadius; dx <= kOutlierRadius; ++dx) {
       ptrdiff_t q = ptrdiff_t(p) + dy * stride + dx;
       values[n++] = lum[q];
-      if (dy != 0 || dx != 0) maxVar = DenoiseMax(maxVar, var[q]);
+      if (dy != 0 || dx != 0) maxVar = DenoiseMax(maxVar, MeanHalfVar(d, h, size_t(q)));
     }
   }
   maxVar += kOutlierVarOffset;
   float ref = DenoiseMax(2.0f * KthSmallest(values, n, kOutlierRank) - kOutlierLumOffset, 0.0f);
-  float own = lum[p], ownVar = var[p];
+  float own = lum[p], ownVar = MeanHalfVar(d, h, p);
   // Detect's test less the clamp of ref at 0: a black pixel (of a noisy half) is no outlier.
   float scale = own > ref ? ref / own : 1.0f;
   if (scale == 1.0f) {

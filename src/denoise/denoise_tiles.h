@@ -1,0 +1,77 @@
+// The CPU's order of the denoiser's per-offset passes (src/denoise/denoise_runner.h): a band
+// of rows at a time, tile by tile, every group of offsets over a tile before the next tile,
+// so that a tile's planes stay in its core's caches and no pass waits for the others. The
+// bodies are nlm_stages.h's, as on the GPU; only the loop order differs. Host code.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "src/denoise/nlm_stages.h"
+
+namespace pt {
+
+// One band's work: image rows [r0, r1), every padded column, tileColumns at a time. The
+// planes' distance pointers are the task's own (DenoiseRunner::Tiles).
+struct DenoiseBand {
+  DenoisePlanes d;
+  DenoiseBandwidths k;
+  uint32_t r0, r1, tileColumns;
+  int radius;
+};
+
+using DenoiseBandFn = void (*)(const DenoiseBand&);
+
+// How the CPU backend runs the per-offset passes: tiles of rows x columns padded pixels (0:
+// the whole image), and the band function for each patch radius (0..3). The backend picks
+// the functions (cpu_backend/denoise_cpu.cpp: compiled for the host's vector ISA).
+struct DenoiseTiling {
+  uint32_t rows = 0, columns = 0;
+  std::array<DenoiseBandFn, 4> bands{};
+};
+
+// body(p) for p in [begin, end): items the compiler may take as independent, so that it
+// vectorises the body over them. (A 32-bit counter: GCC 12 vectorises none of these loops
+// over a size_t one.)
+template <typename F>
+inline void DenoiseForPixels(size_t begin, size_t end, const F& body) {
+  F local = body;
+  uint32_t n = uint32_t(end - begin);
+#if !defined(__CUDACC__)  // (host code: nvcc compiles it in the CUDA runner without using it)
+#pragma GCC ivdep
+#endif
+  for (uint32_t i = 0; i < n; ++i) local(begin + size_t(i));
+}
+
+// Each tile of the band: per group of offsets (the GPU's order), the distances over the tile
+// widened by the patch radius, then the weights and sums over the tile.
+template <int kPatch>
+inline void DenoiseBandPasses(const DenoiseBand& band) {
+  const DenoisePlanes d = band.d;
+  const DenoiseBandwidths k = band.k;
+  int radius = band.radius;
+  for (uint32_t c0 = 0; c0 < d.stride; c0 += band.tileColumns) {
+    size_t c1 = std::min(d.stride, c0 + band.tileColumns);
+    for (int dy = -radius; dy <= radius; ++dy) {
+      for (int dx = -radius; dx <= radius; dx += kDenoiseGroup) {
+        DenoiseOffsets o{ptrdiff_t(dy) * ptrdiff_t(d.stride), dx,
+                         std::min(kDenoiseGroup, radius - dx + 1)};
+        for (uint32_t y = band.r0 + d.padY - kPatch; y < band.r1 + d.padY + kPatch; ++y) {
+          size_t row = size_t(y) * d.stride;
+          DenoiseForPixels(row + c0 - kPatch, row + c1 + kPatch,
+                           [=](size_t p) { DenoiseDistancePixel(d, o, p); });
+        }
+        for (uint32_t y = band.r0 + d.padY; y < band.r1 + d.padY; ++y) {
+          size_t row = size_t(y) * d.stride;
+          DenoiseForPixels(row + c0, row + c1, [=](size_t p) {
+            DenoiseAccumulatePixel<kPatch, kDenoiseCandidates>(d, k, o, p);
+          });
+        }
+      }
+    }
+  }
+}
+
+}  // namespace pt
