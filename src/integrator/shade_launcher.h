@@ -123,7 +123,7 @@ class ShadeLauncher {
 
   // The diffuse and smooth classes have a flat copy for scenes without an environment map
   // (boxes of quads and spheres): the curved-shading fold's registers cost every shaded path
-  // (the Cornell box's shade stage 7.41 -> 6.87 ms on an H100, benchmarks/RESULTS.md).
+  // (the Cornell box's shade stage 7.49 -> 6.92 ms on an H100, benchmarks/RESULTS.md).
   void ShadeClass(FeatureClass c, bool envMap, bool flat, const WaveInfo& wave, const Inputs& in,
                   const uint32_t* order, uint32_t n) {
     switch (c) {

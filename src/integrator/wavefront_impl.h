@@ -65,7 +65,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   const bool flatVariant = !media_.Active() && !envMap_ && FlatShading() &&
                            (featureClass_ == FeatureClass::kDiffuse ||
                             featureClass_ == FeatureClass::kSmooth);
-  stats_.specialization = std::string(FeatureClassName(featureClass_)) + (flatVariant ? "-flat" : "");
+  stats_.specialization =
+      std::string(FeatureClassName(featureClass_)) + (flatVariant ? "-flat" : "");
   media_.SetEstimator(options_.transmittance == TransmittanceMode::kDelta
                           ? TransmittanceEstimator::kDelta
                           : TransmittanceEstimator::kRatio);

@@ -296,13 +296,14 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
   if (params.kind != IntegratorKind::kBsdf && params.Counts(v.depth + 1) &&
       HasNonDeltaLobeFor<C, Q>(mat)) {
     vec4 uLight = key.Draw4(v.depth, kDimLight);
-    if (QueueLightSample<C, Q, kMap, kFlat>(scene, params, si, mat, frame, woLocal, glm::dot(wo, si.ng),
-                               v.beta, uLight, ps, id, receiver))
+    if (QueueLightSample<C, Q, kMap, kFlat>(scene, params, si, mat, frame, woLocal,
+                                            glm::dot(wo, si.ng), v.beta, uLight, ps, id,
+                                            receiver))
       flags |= kFlagShadow;
   }
   vec4 uBsdf = key.Draw4(v.depth, kDimBsdf);
-  bool alive = ContinuePath<C, Q, kFlat>(params, si, mat, frame, wo, woLocal, uBsdf, v.depth, &v.beta,
-                                  &flags, ps, id);
+  bool alive = ContinuePath<C, Q, kFlat>(params, si, mat, frame, wo, woLocal, uBsdf, v.depth,
+                                         &v.beta, &flags, ps, id);
   ps.throughput[id] = v.beta;
   ps.radiance[id] = v.radiance;
   ps.flags[id] = alive ? flags : (flags & ~kFlagAlive);
