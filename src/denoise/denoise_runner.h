@@ -63,8 +63,7 @@ class DenoiseRunner {
   // functions.
   // The group of offsets (dy, dx .. dx + 7), within the window.
   DenoiseOffsets Group(int dy, int dx, const DenoiseSettings& s) const {
-    return DenoiseOffsets{ptrdiff_t(dy) * ptrdiff_t(planes_.stride), dx,
-                          std::min(kDenoiseGroup, s.radius - dx + 1)};
+    return DenoiseOffsets::Group(dy, dx, s.radius, planes_.stride);
   }
 
   // The padded planes, one allocation.

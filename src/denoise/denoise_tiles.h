@@ -56,8 +56,7 @@ inline void DenoiseBandPasses(const DenoiseBand& band) {
     size_t c1 = std::min(d.stride, c0 + band.tileColumns);
     for (int dy = -radius; dy <= radius; ++dy) {
       for (int dx = -radius; dx <= radius; dx += kDenoiseGroup) {
-        DenoiseOffsets o{ptrdiff_t(dy) * ptrdiff_t(d.stride), dx,
-                         std::min(kDenoiseGroup, radius - dx + 1)};
+        const DenoiseOffsets o = DenoiseOffsets::Group(dy, dx, radius, d.stride);
         for (uint32_t y = band.r0 + d.padY - kPatch; y < band.r1 + d.padY + kPatch; ++y) {
           size_t row = size_t(y) * d.stride;
           DenoiseForPixels(row + c0 - kPatch, row + c1 + kPatch,

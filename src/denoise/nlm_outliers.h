@@ -128,10 +128,9 @@ PT_HDI void DenoiseOutlierResolvePixel(const DenoisePlanes& d, size_t p) {
 // Pass O4, per padded pixel: the image pixel's outcome applied to it and to the padding that
 // repeats it (as DenoiseFillPixel repeats the values).
 PT_HDI void DenoiseOutlierApplyPixel(const DenoisePlanes& d, uint32_t i) {
-  int32_t x = int32_t(i % d.stride) - int32_t(d.padX), y = int32_t(i / d.stride) - int32_t(d.padY);
-  x = x < 0 ? 0 : (x >= int32_t(d.width) ? int32_t(d.width) - 1 : x);
-  y = y < 0 ? 0 : (y >= int32_t(d.height) ? int32_t(d.height) - 1 : y);
-  uint32_t s = d.Padded(uint32_t(x), uint32_t(y));
+  uint32_t x, y;
+  RepeatedImagePixel(d, i, &x, &y);
+  uint32_t s = d.Padded(x, y);
   for (int h = 0; h < kDenoiseHalves; ++h) {
     float scale = OutlierScale(d, h)[s];
     if (scale == 1.0f) continue;

@@ -106,13 +106,20 @@ constexpr float kDenoiseValueLimit = 1e16f, kDenoiseVarianceLimit = 1e32f;
 PT_HDI float DenoiseMax(float a, float b) { return a > b ? a : b; }
 PT_HDI float DenoiseMin(float a, float b) { return a < b ? a : b; }
 
+// The image pixel a padded pixel i is or repeats (the nearest one, for the padding).
+PT_HDI void RepeatedImagePixel(const DenoisePlanes& d, uint32_t i, uint32_t* x, uint32_t* y) {
+  int32_t px = int32_t(i % d.stride) - int32_t(d.padX);
+  int32_t py = int32_t(i / d.stride) - int32_t(d.padY);
+  *x = uint32_t(px < 0 ? 0 : (px >= int32_t(d.width) ? int32_t(d.width) - 1 : px));
+  *y = uint32_t(py < 0 ? 0 : (py >= int32_t(d.height) ? int32_t(d.height) - 1 : py));
+}
+
 // Pass 1, over every padded pixel: the halves' means and variances, and the features, from
 // the image pixel the padding repeats; the sums zeroed. A pixel with one sample (or none)
 // has both halves equal to its mean.
 PT_HDI void DenoiseFillPixel(const DenoisePlanes& d, const DenoiseInput& in, uint32_t i) {
-  int32_t x = int32_t(i % d.stride) - int32_t(d.padX), y = int32_t(i / d.stride) - int32_t(d.padY);
-  x = x < 0 ? 0 : (x >= int32_t(d.width) ? int32_t(d.width) - 1 : x);
-  y = y < 0 ? 0 : (y >= int32_t(d.height) ? int32_t(d.height) - 1 : y);
+  uint32_t x, y;
+  RepeatedImagePixel(d, i, &x, &y);
   size_t s = size_t(y) * d.width + size_t(x);
   uint32_t n = in.samples[s], na = in.evenSamples[s] < n ? in.evenSamples[s] : n, nb = n - na;
   constexpr float kLimit = kDenoiseValueLimit;
@@ -199,6 +206,11 @@ struct DenoiseOffsets {
   ptrdiff_t row;
   int first, count;
   PT_HDI ptrdiff_t Of(int g) const { return row + first + (g < count ? g : 0); }
+  // The group of window row dy from column dx: up to kDenoiseGroup offsets within radius.
+  static PT_HDI DenoiseOffsets Group(int dy, int dx, int radius, uint32_t stride) {
+    return DenoiseOffsets{ptrdiff_t(dy) * ptrdiff_t(stride), dx,
+                          kDenoiseGroup < radius - dx + 1 ? kDenoiseGroup : radius - dx + 1};
+  }
 };
 
 PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, const DenoiseOffsets& o, size_t p) {
