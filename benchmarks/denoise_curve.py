@@ -66,12 +66,12 @@ def measure(args):
                 rows.append(dict(base, image="denoised",
                                  seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
                                  relmse=rel_mse(np, dn, r, noise, den)))
-                if args.outliers_off_too:  # the same samples, fireflies left as they are
+                for name, extra in args.variant_list:  # the same samples, other settings
                     t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend,
-                               True, ["--denoise-outliers", "off"])
+                               True, extra)
                     img = read_exr(tmp + "/x.exr")
                     dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
-                    rows.append(dict(base, image="outliers off",
+                    rows.append(dict(base, image=name,
                                      seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
                                      relmse=rel_mse(np, dn, r, noise, den)))
         print("%s: reference %d spp, own relMSE %.2e" % (scene, args.ref_spp,
@@ -103,15 +103,18 @@ def table(rows, label):
              "or render + denoise)." % label, "",
              "| scene | spp | raw relMSE | raw s | denoised relMSE | denoised s |",
              "|---|---|---|---|---|---|"]
-    off = any(r["image"] == "outliers off" for r in rows)
-    if off:
-        lines[2] += " denoised, outliers off, relMSE |"
-        lines[3] += "---|"
+    extra = []  # the variants' columns, in the order first seen
+    for r in rows:
+        if r["image"] not in ("raw", "denoised") and r["image"] not in extra:
+            extra.append(r["image"])
+    for name in extra:
+        lines[2] += " denoised, %s, relMSE | s |" % name
+        lines[3] += "---|---|"
     for scene, images in means(rows).items():
         for i, ((spp, ts, es), (_, td, ed)) in enumerate(zip(images["raw"], images["denoised"])):
             lines.append("| %s | %d | %.3e | %.3f | %.3e | %.3f |" % (scene, spp, es, ts, ed, td))
-            if off:
-                lines[-1] += " %.3e |" % images["outliers off"][i][2]
+            for name in extra:
+                lines[-1] += " %.3e | %.3f |" % (images[name][i][2], images[name][i][1])
     return "\n".join(lines) + "\n"
 
 
@@ -153,7 +156,15 @@ def main():
     ap.add_argument("--plot", help="plot this CSV instead of measuring")
     ap.add_argument("--outliers-off-too", action="store_true",
                     help="also denoise each film with --denoise-outliers off")
+    ap.add_argument("--variant", action="append", default=[], metavar="NAME=OPTIONS",
+                    help="also denoise each film with these extra options (e.g. "
+                         "'radius 5=--denoise-radius 5'); repeatable")
     args = ap.parse_args()
+    args.variant_list = [("outliers off", ["--denoise-outliers", "off"])] \
+        if args.outliers_off_too else []
+    for v in args.variant:
+        name, _, options = v.partition("=")
+        args.variant_list.append((name, options.split()))
     if args.plot:
         return plot(args.plot)
     os.makedirs(args.out, exist_ok=True)

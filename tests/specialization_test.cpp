@@ -35,6 +35,23 @@ TEST(Specialization, EveryProjectSceneIsBitIdenticalToTheGeneralVariant) {
   EXPECT_GE(flat, 2);  // the Cornell boxes run the flat copy (no vertex normals, no light tree)
 }
 
+// The statistics name the copy that ran: the queue kernels (--sort queues) have no flat copy.
+TEST(Specialization, TheStatisticsNameTheFlatCopyOnlyWhereItRuns) {
+  SceneDesc desc = LoadScene(SourcePath("scenes/cornell_box.json"));
+  desc.render.width = desc.render.height = 16;
+  desc.render.spp = 2;
+  Scene scene = BuildScene(std::move(desc));
+  RenderOptions inOrder, material, queues;
+  inOrder.sort = SortMode::kOff;
+  material.sort = SortMode::kMaterial;
+  queues.sort = SortMode::kQueues;
+  EXPECT_EQ(RenderOnCpu(scene, inOrder).stats.specialization, "diffuse-flat");
+  EXPECT_EQ(RenderOnCpu(scene, material).stats.specialization, "diffuse-flat");
+  RenderResult q = RenderOnCpu(scene, queues);
+  EXPECT_EQ(q.stats.sortMode, "queues");
+  EXPECT_EQ(q.stats.specialization, "diffuse");
+}
+
 TEST(Specialization, EffectsAndVariantsFollowTheScene) {
   auto effectsOf = [](const char* materials) {
     std::string json = std::string(R"({"render": {"width": 4, "height": 4, "spp": 1, "max_depth": 2},

@@ -121,20 +121,31 @@ class ShadeLauncher {
     });
   }
 
-  // The diffuse and smooth classes have a flat copy for scenes without an environment map
-  // (boxes of quads and spheres): the curved-shading fold's registers cost every shaded path
-  // (the Cornell box's shade stage 7.49 -> 6.92 ms on an H100, benchmarks/RESULTS.md).
+  // Whether Shade runs a flat copy: the diffuse and smooth classes have one for scenes without
+  // an environment map (boxes of quads and spheres), whose curved-shading fold's registers
+  // cost every shaded path (the Cornell box's shade stage 7.49 -> 6.92 ms on an H100,
+  // benchmarks/RESULTS.md); the queue kernels have none. The statistics say what this says.
+  static bool RunsFlatCopy(SortMode mode, FeatureClass c, bool envMap, bool flat) {
+    return mode != SortMode::kQueues && flat && !envMap &&
+           (c == FeatureClass::kDiffuse || c == FeatureClass::kSmooth);
+  }
+
   void ShadeClass(FeatureClass c, bool envMap, bool flat, const WaveInfo& wave, const Inputs& in,
                   const uint32_t* order, uint32_t n) {
+    if (RunsFlatCopy(SortMode::kOff, c, envMap, flat)) {
+      if (c == FeatureClass::kDiffuse)
+        ShadeAll<FeatureClass::kDiffuse, false, true>(wave, in, order, n);
+      else
+        ShadeAll<FeatureClass::kSmooth, false, true>(wave, in, order, n);
+      return;
+    }
     switch (c) {
       case FeatureClass::kDiffuse:
         if (envMap) ShadeAll<FeatureClass::kDiffuse, true>(wave, in, order, n);
-        else if (flat) ShadeAll<FeatureClass::kDiffuse, false, true>(wave, in, order, n);
         else ShadeAll<FeatureClass::kDiffuse, false>(wave, in, order, n);
         break;
       case FeatureClass::kSmooth:
         if (envMap) ShadeAll<FeatureClass::kSmooth, true>(wave, in, order, n);
-        else if (flat) ShadeAll<FeatureClass::kSmooth, false, true>(wave, in, order, n);
         else ShadeAll<FeatureClass::kSmooth, false>(wave, in, order, n);
         break;
       case FeatureClass::kLayered: ShadeAll<FeatureClass::kLayered, true>(wave, in, order, n); break;

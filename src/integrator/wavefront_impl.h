@@ -62,11 +62,6 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   // --tri-test box-clamped's raise is compiled into the hit-test variants only (shapes.h).
   hitTests_ = (effects & (kEffectAlpha | kEffectBackfaceCulling)) != 0 ||
               options_.triangleTest == TriangleTest::kBoxClamped;
-  const bool flatVariant = !media_.Active() && !envMap_ && FlatShading() &&
-                           (featureClass_ == FeatureClass::kDiffuse ||
-                            featureClass_ == FeatureClass::kSmooth);
-  stats_.specialization =
-      std::string(FeatureClassName(featureClass_)) + (flatVariant ? "-flat" : "");
   media_.SetEstimator(options_.transmittance == TransmittanceMode::kDelta
                           ? TransmittanceEstimator::kDelta
                           : TransmittanceEstimator::kRatio);
@@ -106,6 +101,10 @@ void WavefrontIntegrator<Backend>::ApplySortOptions() {
   stats_.sortMode = SortModeName(sortMode_);
   stats_.sortMethod = ordering ? SortMethodName(shade_.Method()) : "";
   stats_.sortReason = choice.reason;
+  // The variant that runs, as Shade chooses it (media scenes: their own, never flat).
+  const bool flatCopy = !media_.Active() && ShadeLauncher<Backend>::RunsFlatCopy(
+                                                sortMode_, featureClass_, envMap_, FlatShading());
+  stats_.specialization = std::string(FeatureClassName(featureClass_)) + (flatCopy ? "-flat" : "");
 }
 
 // The Scene was edited: its arrays again (a camera set on the session stays), and what the
