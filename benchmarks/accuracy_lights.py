@@ -71,7 +71,7 @@ def render(args, scene, spp, seed, extra, work, crop=()):
     image, stats = os.path.join(work, "img.pfm"), os.path.join(work, "stats.json")
     cmd = [args.binary, os.path.join(REPO, scene), "-o", image, "--width", str(args.w),
            "--height", str(args.h), "--spp", str(spp), "--seed", str(seed), "--backend",
-           args.backend, "--stats-json", stats, "--quiet"] + extra + list(crop)
+           args.backend, "--stats-json", stats, "--quiet"] + extra + args.extra.split() + list(crop)
     if args.backend == "cpu":
         cmd += ["--threads", str(args.threads)]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -102,7 +102,7 @@ def study(args):
             refs[scene] = noise
             print("%s: reference %d spp, own relMSE %.3g" % (scene, args.ref_spp, noise),
                   flush=True)
-            for method, extra in METHODS.items():
+            for method, extra in ((m, METHODS[m]) for m in args.methods):
                 startup = min(render(args, scene, 1, 1, extra, work,
                                      ["--crop", "0", "0", "1", "1"])[2] for _ in range(2))
                 for spp in args.spps:
@@ -149,7 +149,7 @@ def write_table(table, refs, info, args, path):
         full = [s for s in info if os.path.basename(s) == scene]
         lights = info[full[0]]["scene"]["lights"] if full else "?"
         best = table[(scene, "bvh")]["const"]
-        for method in METHODS:
+        for method in (m for m in METHODS if (scene, m) in table):
             t = table[(scene, method)]
             cells = " | ".join("%.4g" % e for _, e, _ in t["points"])
             lines.append("| %s | %s | %s | %s | %.3g | %.4g | %.1fx |" % (
@@ -175,6 +175,8 @@ def plot(table, args, path):
     unit = "CPU s" if args.backend == "cpu" else "s"
     for row, scene in zip(axes, scenes):
         for method, style in zip(METHODS, ("o-", "s--", "^:")):
+            if (scene, method) not in table:
+                continue
             pts = table[(scene, method)]["points"]
             row[0].loglog([p[0] for p in pts], [p[1] for p in pts], style, label=method)
             row[1].loglog([p[2] for p in pts], [p[1] for p in pts], style, label=method)
@@ -201,6 +203,10 @@ def main():
     p.add_argument("--ref-spp", type=int, default=2048)
     p.add_argument("--scenes", default=",".join(SCENES))
     p.add_argument("--label", default="2 CPU threads")
+    p.add_argument("--extra", default="",
+                   help="options every render takes (reference too), e.g. '--sampler sobol'")
+    p.add_argument("--methods", default=",".join(METHODS), help="comma-separated, of " +
+                   ", ".join(METHODS))
     p.add_argument("--out", default=os.path.join(REPO, "benchmarks/results"))
     p.add_argument("--quick", action="store_true", help="32x18, spp 1 and 4, 64-spp reference")
     p.add_argument("--plot-csv", default=None,
@@ -209,6 +215,7 @@ def main():
     args.w, args.h = (int(v) for v in args.size.split("x"))
     args.spps = [int(v) for v in args.spps.split(",")]
     args.scenes = args.scenes.split(",")
+    args.methods = args.methods.split(",")
     if args.quick:
         args.w, args.h, args.spps, args.ref_spp, args.seeds = 32, 18, [1, 4], 64, 1
     if args.plot_csv:
