@@ -162,34 +162,48 @@ class DenoiseRunner {
                          [=] PT_HD(uint32_t i) { DenoiseOutlierApplyPixel(d, i); });
   }
 
-  // A group of offsets over the image rows [r0, r1): distances over the rows the patches
-  // reach, then the weights and sums.
+  // A group of offsets over the image rows [r0, r1), compiled for its size: 8, or a window
+  // row's last group (nlm_stages.h).
+  void Offsets(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset,
+               const DenoiseSettings& s) {
+    switch (offset.count) {
+      case 1: Offsets<1>(r0, r1, offset, s); break;
+      case 3: Offsets<3>(r0, r1, offset, s); break;
+      case 5: Offsets<5>(r0, r1, offset, s); break;
+      case 7: Offsets<7>(r0, r1, offset, s); break;
+      case kDenoiseGroup: Offsets<kDenoiseGroup>(r0, r1, offset, s); break;
+      default: throw std::logic_error("denoise: no passes for a group of this size");
+    }
+  }
+
+  // Distances over the rows the patches reach, then the weights and sums.
+  template <int kGroup>
   void Offsets(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset,
                const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
     uint32_t f = uint32_t(s.patchRadius);
     size_t first = size_t(r0 + d.padY - f) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0 + 2 * f) * d.stride, [=] PT_HD(uint32_t i) {
-      DenoiseDistancePixel(d, offset, first + size_t(i));
+      DenoiseDistancePixel<kGroup>(d, offset, first + size_t(i));
     });
-    // One kernel per patch size. Every candidate's sums are kept whatever candidateCount says
-    // (those past it are never read): a third of the kernels to compile, and the default
-    // (three candidates) pays nothing for it.
+    // One kernel per patch size and group size. Every candidate's sums are kept whatever
+    // candidateCount says (those past it are never read): a third of the kernels to compile,
+    // and the default (three candidates) pays nothing for it.
     switch (s.patchRadius) {
-      case 0: Accumulate<0, kDenoiseCandidates>(r0, r1, offset); break;
-      case 1: Accumulate<1, kDenoiseCandidates>(r0, r1, offset); break;
-      case 2: Accumulate<2, kDenoiseCandidates>(r0, r1, offset); break;
-      default: Accumulate<3, kDenoiseCandidates>(r0, r1, offset); break;
+      case 0: Accumulate<0, kGroup>(r0, r1, offset); break;
+      case 1: Accumulate<1, kGroup>(r0, r1, offset); break;
+      case 2: Accumulate<2, kGroup>(r0, r1, offset); break;
+      default: Accumulate<3, kGroup>(r0, r1, offset); break;
     }
   }
 
-  template <int kPatch, int kCount>
+  template <int kPatch, int kGroup>
   void Accumulate(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset) {
     DenoisePlanes d = planes_;
     DenoiseBandwidths k = bandwidths_;
     size_t first = size_t(r0 + d.padY) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0) * d.stride, [=] PT_HD(uint32_t i) {
-      DenoiseAccumulatePixel<kPatch, kCount>(d, k, offset, first + size_t(i));
+      DenoiseAccumulatePixel<kPatch, kGroup>(d, k, offset, first + size_t(i));
     });
   }
 

@@ -45,28 +45,42 @@ inline void DenoiseForPixels(size_t begin, size_t end, const F& body) {
   for (uint32_t i = 0; i < n; ++i) local(begin + size_t(i));
 }
 
-// Each tile of the band: per group of offsets (the GPU's order), the distances over the tile
-// widened by the patch radius, then the weights and sums over the tile.
-template <int kPatch>
-inline void DenoiseBandPasses(const DenoiseBand& band) {
+// One group of offsets over a tile (columns [c0, c1)): the distances over the tile widened by
+// the patch radius, then the weights and sums over the tile. kGroup is o.count.
+template <int kPatch, int kGroup>
+inline void DenoiseTileGroup(const DenoiseBand& band, const DenoiseOffsets& o, size_t c0,
+                             size_t c1) {
   const DenoisePlanes d = band.d;
   const DenoiseBandwidths k = band.k;
+  for (uint32_t y = band.r0 + d.padY - kPatch; y < band.r1 + d.padY + kPatch; ++y) {
+    size_t row = size_t(y) * d.stride;
+    DenoiseForPixels(row + c0 - kPatch, row + c1 + kPatch,
+                     [=](size_t p) { DenoiseDistancePixel<kGroup>(d, o, p); });
+  }
+  for (uint32_t y = band.r0 + d.padY; y < band.r1 + d.padY; ++y) {
+    size_t row = size_t(y) * d.stride;
+    DenoiseForPixels(row + c0, row + c1, [=](size_t p) {
+      DenoiseAccumulatePixel<kPatch, kGroup>(d, k, o, p);
+    });
+  }
+}
+
+// Each tile of the band: every group of offsets in the GPU's order.
+template <int kPatch>
+inline void DenoiseBandPasses(const DenoiseBand& band) {
+  const uint32_t stride = band.d.stride;
   int radius = band.radius;
-  for (uint32_t c0 = 0; c0 < d.stride; c0 += band.tileColumns) {
-    size_t c1 = std::min(d.stride, c0 + band.tileColumns);
+  for (uint32_t c0 = 0; c0 < stride; c0 += band.tileColumns) {
+    size_t c1 = std::min(stride, c0 + band.tileColumns);
     for (int dy = -radius; dy <= radius; ++dy) {
       for (int dx = -radius; dx <= radius; dx += kDenoiseGroup) {
-        const DenoiseOffsets o = DenoiseOffsets::Group(dy, dx, radius, d.stride);
-        for (uint32_t y = band.r0 + d.padY - kPatch; y < band.r1 + d.padY + kPatch; ++y) {
-          size_t row = size_t(y) * d.stride;
-          DenoiseForPixels(row + c0 - kPatch, row + c1 + kPatch,
-                           [=](size_t p) { DenoiseDistancePixel(d, o, p); });
-        }
-        for (uint32_t y = band.r0 + d.padY; y < band.r1 + d.padY; ++y) {
-          size_t row = size_t(y) * d.stride;
-          DenoiseForPixels(row + c0, row + c1, [=](size_t p) {
-            DenoiseAccumulatePixel<kPatch, kDenoiseCandidates>(d, k, o, p);
-          });
+        const DenoiseOffsets o = DenoiseOffsets::Group(dy, dx, radius, stride);
+        switch (o.count) {  // 8, or a row's last group (nlm_stages.h)
+          case 1: DenoiseTileGroup<kPatch, 1>(band, o, c0, c1); break;
+          case 3: DenoiseTileGroup<kPatch, 3>(band, o, c0, c1); break;
+          case 5: DenoiseTileGroup<kPatch, 5>(band, o, c0, c1); break;
+          case 7: DenoiseTileGroup<kPatch, 7>(band, o, c0, c1); break;
+          default: DenoiseTileGroup<kPatch, kDenoiseGroup>(band, o, c0, c1); break;
         }
       }
     }

@@ -200,22 +200,26 @@ PT_HDI float PixelDistance(float* const* mean, float* const* var, size_t p, size
   return DenoiseMax(sum * (1.0f / 3.0f), 0.0f);
 }
 
-// A group of offsets: row offset `row` (dy * stride) and columns first .. first + count - 1
-// (count <= kDenoiseGroup; the rest repeat the first, and the accumulate pass ignores them).
+// A group of offsets: row offset `row` (dy * stride) and columns first .. first + count - 1.
+// The passes are compiled for each group size (their kGroup is count): a window row has
+// 2 radius + 1 columns, so its groups hold kDenoiseGroup offsets but the last, which holds 1,
+// 3, 5 or 7 (the sizes the backends compile). No slot is computed only to be weighted 0.
 struct DenoiseOffsets {
   ptrdiff_t row;
   int first, count;
-  PT_HDI ptrdiff_t Of(int g) const { return row + first + (g < count ? g : 0); }
+  PT_HDI ptrdiff_t Of(int g) const { return row + first + g; }
   // The group of window row dy from column dx: up to kDenoiseGroup offsets within radius.
   static PT_HDI DenoiseOffsets Group(int dy, int dx, int radius, uint32_t stride) {
     return DenoiseOffsets{ptrdiff_t(dy) * ptrdiff_t(stride), dx,
                           kDenoiseGroup < radius - dx + 1 ? kDenoiseGroup : radius - dx + 1};
   }
 };
+static_assert(kDenoiseGroup == 8, "the backends' group-size switches list 8, 7, 5, 3 and 1");
 
+template <int kGroup>
 PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, const DenoiseOffsets& o, size_t p) {
   PT_DENOISE_UNROLL
-  for (int g = 0; g < kDenoiseGroup; ++g) {
+  for (int g = 0; g < kGroup; ++g) {
     size_t q = size_t(ptrdiff_t(p) + o.Of(g));
     d.dist[g][0][p] = PixelDistance(d.half[0], d.halfVar[0], p, q);
     d.dist[g][1][p] = PixelDistance(d.half[1], d.halfVar[1], p, q);
@@ -263,34 +267,34 @@ struct DenoiseBandwidths {
 // Pass 4, per group of offsets, over the padded pixels of a band of rows: for each offset
 // in turn and each candidate, each half's sums take the neighbour with weight
 // exp(-max(patch distance of the OTHER half, feature distance)), both in that candidate's
-// bandwidths. The same additions in the same order as one offset at a time.
-template <int kPatch, int kCount>
+// bandwidths. The same additions in the same order as one offset at a time. kGroup is the
+// group's count (o.count).
+template <int kPatch, int kGroup>
 PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidths& k,
                                    const DenoiseOffsets& o, size_t p) {
   ptrdiff_t stride = ptrdiff_t(d.stride);
-  float sum[kCount][kDenoiseHalves][4], own[kDenoiseHalves][3];
+  float sum[kDenoiseCandidates][kDenoiseHalves][4], own[kDenoiseHalves][3];
   PT_DENOISE_UNROLL
   for (int h = 0; h < kDenoiseHalves; ++h) {
     PT_DENOISE_UNROLL
     for (int c = 0; c < 3; ++c) own[h][c] = d.half[h][c][p];
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       PT_DENOISE_UNROLL
       for (int c = 0; c < 4; ++c) sum[j][h][c] = d.sum[j][h][c][p];
     }
   }
   PT_DENOISE_UNROLL
-  for (int g = 0; g < kDenoiseGroup; ++g) {
+  for (int g = 0; g < kGroup; ++g) {
     size_t q = size_t(ptrdiff_t(p) + o.Of(g));
-    float valid = g < o.count ? 1.0f : 0.0f;
     float feature = FeatureDistance(d, p, q);
     float patch0 = PatchDistance<kPatch>(d.dist[g][0], p, stride);
     float patch1 = PatchDistance<kPatch>(d.dist[g][1], p, stride);
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       float f = feature * k.feature[j];
-      float w0 = valid * DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
-      float w1 = valid * DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
+      float w0 = DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
+      float w1 = DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
       AddNeighbour(sum[j][0], d.half[0], own[0], q, w0);
       AddNeighbour(sum[j][1], d.half[1], own[1], q, w1);
     }
@@ -298,7 +302,7 @@ PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidt
   PT_DENOISE_UNROLL
   for (int h = 0; h < kDenoiseHalves; ++h) {
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       PT_DENOISE_UNROLL
       for (int c = 0; c < 4; ++c) d.sum[j][h][c][p] = sum[j][h][c];
     }
