@@ -76,14 +76,13 @@ class DenoiseRunner {
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
     size_t plane = size_t(d.stride) * d.rows;
-    constexpr size_t kDist = 2 * kDenoiseGroup;
     constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + kDenoiseCandidates * (2 * 4 + 1);
     // The CPU's distance planes: each task's own, over a tile's rows and the patches' reach.
-    size_t dist = kDist * plane;
+    size_t dist = 2 * kDenoiseGroup * plane;
     if constexpr (Backend::kHostMemory) {
       tasks_ = uint32_t(backend_.ThreadCount());
       distRegion_ = size_t(TileRows() + 2 * s.patchRadius) * d.stride + 2 * s.patchRadius;
-      dist = kDist * distRegion_ * tasks_;
+      dist = 2 * size_t(MaxGroup(s)) * distRegion_ * tasks_;
     }
     if (store_.Size() != plane * kPlanes + dist) {
       store_.Resize(plane * kPlanes + dist);
@@ -211,17 +210,21 @@ class DenoiseRunner {
     return tiling_.rows ? std::min(tiling_.rows, planes_.height) : planes_.height;
   }
   uint32_t TileColumns() const { return tiling_.columns ? tiling_.columns : planes_.stride; }
+  int MaxGroup(const DenoiseSettings& s) const {
+    return tiling_.maxGroup[size_t(std::min(s.patchRadius, 3))];
+  }
 
   // The CPU's order (denoise_tiles.h): one task per thread takes bands of tile rows from a
   // counter. A task has its own distance planes, so no two threads write one value (a tile's
   // distances reach into its neighbours'); each pixel's sums take the offsets in the GPU's
-  // order, so the image is the same for any tiling and thread count.
+  // order, so the image is the same for any tiling, group size and thread count.
   void Tiles(const DenoiseSettings& s) {
     uint32_t bands = (planes_.height + TileRows() - 1) / TileRows();
-    DenoiseBandFn run = tiling_.bands[size_t(std::min(s.patchRadius, 3))];
+    const DenoiseGroupFns& groups = tiling_.groups[size_t(std::min(s.patchRadius, 3))];
+    int maxGroup = MaxGroup(s);
     std::atomic<uint32_t> next{0};
     backend_.ParallelTasks(Stage::kAccumulate, tasks_, [&](uint32_t task) {
-      DenoiseBand band{planes_, bandwidths_, 0, 0, TileColumns(), s.radius};
+      DenoiseBand band{planes_, bandwidths_, 0, 0, TileColumns(), s.radius, maxGroup};
       for (uint32_t b; (b = next.fetch_add(1, std::memory_order_relaxed)) < bands;) {
         band.r0 = b * TileRows();
         band.r1 = std::min(planes_.height, band.r0 + TileRows());
@@ -229,13 +232,13 @@ class DenoiseRunner {
         // and f more floats either side (f the patch radius). Within store_: they are last.
         size_t f = size_t(s.patchRadius);
         size_t origin = (band.r0 + planes_.padY - f) * planes_.stride - f;
-        for (int g = 0; g < kDenoiseGroup; ++g) {
+        for (int g = 0; g < maxGroup; ++g) {
           for (int h = 0; h < kDenoiseHalves; ++h) {
-            size_t plane = (size_t(task) * kDenoiseGroup + size_t(g)) * kDenoiseHalves + size_t(h);
+            size_t plane = (size_t(task) * size_t(maxGroup) + size_t(g)) * kDenoiseHalves + size_t(h);
             band.d.dist[g][h] = distStore_ + plane * distRegion_ - origin;
           }
         }
-        run(band);
+        DenoiseBandPasses(band, groups);
       }
     });
   }

@@ -13,23 +13,28 @@
 
 namespace pt {
 
-// One band's work: image rows [r0, r1), every padded column, tileColumns at a time. The
-// planes' distance pointers are the task's own (DenoiseRunner::Tiles).
+// One band's work: image rows [r0, r1), every padded column, tileColumns at a time, in groups
+// of at most maxGroup offsets (DenoiseOffsets::Group). The planes' distance pointers are the
+// task's own (DenoiseRunner::Tiles).
 struct DenoiseBand {
   DenoisePlanes d;
   DenoiseBandwidths k;
   uint32_t r0, r1, tileColumns;
-  int radius;
+  int radius, maxGroup;
 };
 
-using DenoiseBandFn = void (*)(const DenoiseBand&);
+// One group of offsets (kGroup = its count) over the columns [c0, c1) of a band.
+using DenoiseGroupFn = void (*)(const DenoiseBand&, const DenoiseOffsets&, size_t, size_t);
+using DenoiseGroupFns = std::array<DenoiseGroupFn, kDenoiseWideGroup + 1>;  // by group size
 
 // How the CPU backend runs the per-offset passes: tiles of rows x columns padded pixels (0:
-// the whole image), and the band function for each patch radius (0..3). The backend picks
-// the functions (cpu_backend/denoise_cpu.cpp: compiled for the host's vector ISA).
+// the whole image), and per patch radius (0..3) the largest group and the group functions of
+// the sizes it makes. The backend picks the functions (cpu_backend/denoise_cpu.cpp: compiled
+// for the host's vector ISA).
 struct DenoiseTiling {
   uint32_t rows = 0, columns = 0;
-  std::array<DenoiseBandFn, 4> bands{};
+  std::array<int, 4> maxGroup{};
+  std::array<DenoiseGroupFns, 4> groups{};
 };
 
 // body(p) for p in [begin, end): items the compiler may take as independent, so that it
@@ -66,22 +71,16 @@ inline void DenoiseTileGroup(const DenoiseBand& band, const DenoiseOffsets& o, s
 }
 
 // Each tile of the band: every group of offsets in the GPU's order.
-template <int kPatch>
-inline void DenoiseBandPasses(const DenoiseBand& band) {
+inline void DenoiseBandPasses(const DenoiseBand& band, const DenoiseGroupFns& groups) {
   const uint32_t stride = band.d.stride;
   int radius = band.radius;
   for (uint32_t c0 = 0; c0 < stride; c0 += band.tileColumns) {
     size_t c1 = std::min(stride, c0 + band.tileColumns);
     for (int dy = -radius; dy <= radius; ++dy) {
-      for (int dx = -radius; dx <= radius; dx += kDenoiseGroup) {
-        const DenoiseOffsets o = DenoiseOffsets::Group(dy, dx, radius, stride);
-        switch (o.count) {  // 8, or a row's last group (nlm_stages.h)
-          case 1: DenoiseTileGroup<kPatch, 1>(band, o, c0, c1); break;
-          case 3: DenoiseTileGroup<kPatch, 3>(band, o, c0, c1); break;
-          case 5: DenoiseTileGroup<kPatch, 5>(band, o, c0, c1); break;
-          case 7: DenoiseTileGroup<kPatch, 7>(band, o, c0, c1); break;
-          default: DenoiseTileGroup<kPatch, kDenoiseGroup>(band, o, c0, c1); break;
-        }
+      for (int dx = -radius; dx <= radius;) {
+        const DenoiseOffsets o = DenoiseOffsets::Group(dy, dx, radius, stride, band.maxGroup);
+        groups[size_t(o.count)](band, o, c0, c1);
+        dx += o.count;
       }
     }
   }
