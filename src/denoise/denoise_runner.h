@@ -71,7 +71,8 @@ class DenoiseRunner {
     DenoisePlanes& d = planes_;
     d.width = width;
     d.height = height;
-    d.padX = uint32_t(s.radius + s.patchRadius);
+    // (At least the selection's radius: its window reads the error planes' padding.)
+    d.padX = uint32_t(std::max(s.radius + s.patchRadius, s.selectRadius));
     d.padY = d.padX + 1;  // a neighbour of a padding column wraps into the next row: in range
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
@@ -243,7 +244,7 @@ class DenoiseRunner {
     });
   }
 
-  // Each candidate's error, then each pixel's choice and value.
+  // Each candidate's error, its padding, then each pixel's choice and value.
   void Finish(FilmImage& image, const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
     int count = s.candidateCount, radius = s.selectRadius;
@@ -251,15 +252,24 @@ class DenoiseRunner {
     backend_.ParallelFor(Stage::kAccumulate, d.height * d.stride, [=] PT_HD(uint32_t i) {
       DenoiseErrorPixel(d, count, first + size_t(i));
     });
+    uint32_t padFirst = (d.padY - uint32_t(radius)) * d.stride;
+    backend_.ParallelFor(Stage::kAccumulate, (d.height + 2 * uint32_t(radius)) * d.stride,
+                         [=] PT_HD(uint32_t i) { DenoiseErrorPadPixel(d, count, padFirst + i); });
     out_.Resize(size_t(3) * d.width * d.height);
     float* out = out_.Data();
-    backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
-      DenoiseFinishPixel(d, count, radius, out, i);
-    });
+    if constexpr (Backend::kHostMemory) {
+      backend_.ParallelFor(Stage::kAccumulate, d.height, [=](uint32_t y) {
+        std::vector<float> acc(size_t(kDenoiseCandidates) * d.width);
+        DenoiseSelectRow(d, count, radius, out, y, acc.data());
+      });
+    } else {
+      backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
+        DenoiseFinishPixel(d, count, radius, out, i);
+      });
+    }
     backend_.Synchronize();
     out_.Download(image.denoised);
   }
-
 
  private:
   Backend& backend_;

@@ -86,4 +86,31 @@ inline void DenoiseBandPasses(const DenoiseBand& band, const DenoiseGroupFns& gr
   }
 }
 
+// The selection on the CPU, image row y: each candidate's error summed over the window into
+// acc (kDenoiseCandidates x width floats, those past count left as they are) with the pixel
+// loop innermost, so that it vectorises; each pixel's sum takes the same values in the same
+// order as DenoiseFinishPixel's. Then each pixel's choice (DenoiseChoosePixel).
+inline void DenoiseSelectRow(const DenoisePlanes& d, int count, int radius, float* out,
+                             uint32_t y, float* acc) {
+  const size_t row = d.Padded(0, y), width = d.width;
+  const ptrdiff_t stride = ptrdiff_t(d.stride);
+  for (int k = 0; k < count; ++k) {
+    float* a = acc + size_t(k) * width;
+    DenoiseForPixels(0, width, [=](size_t x) { a[x] = 0.0f; });
+    for (int dy = -radius; dy <= radius; ++dy) {
+      for (int dx = -radius; dx <= radius; ++dx) {
+        const float* e = d.error[k] + (ptrdiff_t(row) + dy * stride + dx);
+        DenoiseForPixels(0, width, [=](size_t x) { a[x] += e[x]; });
+      }
+    }
+  }
+  float* rgb = out + 3 * size_t(y) * width;
+  DenoiseForPixels(0, width, [=](size_t x) {
+    float e[kDenoiseCandidates];
+    PT_DENOISE_UNROLL
+    for (int k = 0; k < kDenoiseCandidates; ++k) e[k] = acc[size_t(k) * width + x];
+    DenoiseChoosePixel(d, count, e, row + x, rgb + 3 * x);
+  });
+}
+
 }  // namespace pt

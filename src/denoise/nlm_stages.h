@@ -342,31 +342,68 @@ PT_HDI void DenoiseErrorPixel(const DenoisePlanes& d, int count, size_t p) {
   }
 }
 
-// Pass 6, per image pixel: the candidate whose error estimate, summed over the window of
-// `radius` around the pixel (clamped to the image), is least; the mean of its two filtered
-// halves, interleaved RGB.
+// Pass 6, over the padded pixels of the rows within the selection radius of the image: the
+// error planes' padding repeats their edge pixels (as the other planes' does), so the window
+// sums of the selection read the image's edge without a clamp, which the CPU vectorises.
+PT_HDI void DenoiseErrorPadPixel(const DenoisePlanes& d, int count, uint32_t i) {
+  uint32_t x, y;
+  RepeatedImagePixel(d, i, &x, &y);
+  size_t edge = d.Padded(x, y);
+  if (edge == size_t(i)) return;
+  for (int k = 0; k < count; ++k) d.error[k][i] = d.error[k][edge];
+}
+
+// The candidate whose window error e[k] is least (the first of equal ones; k < count), and the
+// mean of its two filtered halves into rgb. Every candidate's sums are read and the chosen
+// one's selected before dividing: the same values as reading only its own, in vector code.
+PT_HDI void DenoiseChoosePixel(const DenoisePlanes& d, int count, const float* e, size_t p,
+                               float* rgb) {
+  int best = 0;
+  float bestError = e[0];
+  PT_DENOISE_UNROLL
+  for (int k = 1; k < kDenoiseCandidates; ++k) {
+    bool better = k < count && e[k] < bestError;
+    best = better ? k : best;
+    bestError = better ? e[k] : bestError;
+  }
+  PT_DENOISE_UNROLL
+  for (int c = 0; c < 3; ++c) {
+    float half[kDenoiseHalves];
+    PT_DENOISE_UNROLL
+    for (int h = 0; h < kDenoiseHalves; ++h) {
+      float s[kDenoiseCandidates], w[kDenoiseCandidates];
+      PT_DENOISE_UNROLL
+      for (int k = 0; k < kDenoiseCandidates; ++k) {
+        s[k] = d.sum[k][h][c][p];
+        w[k] = d.sum[k][h][3][p];
+      }
+      PT_DENOISE_UNROLL
+      for (int k = 1; k < kDenoiseCandidates; ++k) {
+        s[0] = best == k ? s[k] : s[0];
+        w[0] = best == k ? w[k] : w[0];
+      }
+      half[h] = d.half[h][c][p] + s[0] / w[0];
+    }
+    rgb[c] = 0.5f * (half[0] + half[1]);
+  }
+}
+
+// Pass 7, per image pixel: the candidate whose error estimate, summed over the window of
+// `radius` around the pixel (the padding repeats the edge: pass 6), is least; the mean of its
+// two filtered halves, interleaved RGB. (The CPU sums a row's windows in vector loops in the
+// same order: DenoiseSelectRow.)
 PT_HDI void DenoiseFinishPixel(const DenoisePlanes& d, int count, int radius, float* out,
                                uint32_t i) {
-  int x = int(i % d.width), y = int(i / d.width);
-  int best = 0;
-  float bestError = 0.0f;
+  size_t p = d.Padded(i % d.width, i / d.width);
+  ptrdiff_t stride = ptrdiff_t(d.stride);
+  float e[kDenoiseCandidates] = {};
   for (int k = 0; k < count; ++k) {
-    float e = 0.0f;
     for (int dy = -radius; dy <= radius; ++dy) {
-      int yy = y + dy < 0 ? 0 : (y + dy >= int(d.height) ? int(d.height) - 1 : y + dy);
-      for (int dx = -radius; dx <= radius; ++dx) {
-        int xx = x + dx < 0 ? 0 : (x + dx >= int(d.width) ? int(d.width) - 1 : x + dx);
-        e += d.error[k][d.Padded(uint32_t(xx), uint32_t(yy))];
-      }
+      const float* error = d.error[k] + (ptrdiff_t(p) + dy * stride);
+      for (int dx = -radius; dx <= radius; ++dx) e[k] += error[dx];
     }
-    if (k == 0 || e < bestError) best = k, bestError = e;
   }
-  uint32_t p = d.Padded(uint32_t(x), uint32_t(y));
-  for (int c = 0; c < 3; ++c) {
-    float a = d.half[0][c][p] + d.sum[best][0][c][p] / d.sum[best][0][3][p];
-    float b = d.half[1][c][p] + d.sum[best][1][c][p] / d.sum[best][1][3][p];
-    out[3 * size_t(i) + size_t(c)] = 0.5f * (a + b);
-  }
+  DenoiseChoosePixel(d, count, e, p, out + 3 * size_t(i));
 }
 
 }  // namespace pt
