@@ -86,10 +86,14 @@ class DenoiseRunner {
       dist = 2 * size_t(MaxGroup(s)) * distRegion_ * tasks_;
     }
     if (store_.Size() != plane * kPlanes + dist) {
-      store_.Resize(plane * kPlanes + dist);
       // The GPU's whole-image passes read distances at the edge they never wrote: zeros keep
-      // them finite. The CPU's tiles read only what they wrote (and zeroing 400 MB costs).
-      if constexpr (!Backend::kHostMemory) store_.Zero();
+      // them finite. The CPU's passes read only what they wrote, and zeroing 420 MB costs.
+      if constexpr (Backend::kHostMemory) {
+        store_.ResizeForOverwrite(plane * kPlanes + dist);
+      } else {
+        store_.Resize(plane * kPlanes + dist);
+        store_.Zero();
+      }
     }
     float* next = store_.Data();
     auto take = [&] {
@@ -118,21 +122,30 @@ class DenoiseRunner {
     distStore_ = next;  // the tasks' distance planes, last (Tiles points below them)
   }
 
+  // The film's arrays where the passes read them: on the CPU in place (a copy would fault in
+  // and fill 116 MB more at 1080p), on a GPU copied to the device.
   void Upload(const FilmImage& image) {
-    rgb_.Upload(image.rgb);
-    variance_.Upload(image.variance);
-    samples_.Upload(image.samples);
-    evenRgb_.Upload(image.evenRgb);
-    evenSamples_.Upload(image.evenSamples);
-    albedo_.Upload(image.albedo);
-    normal_.Upload(image.normal);
-    depth_.Upload(image.depth);
+    if constexpr (Backend::kHostMemory) {
+      input_ = DenoiseInput{image.rgb.data(),         image.variance.data(), image.samples.data(),
+                            image.evenRgb.data(),     image.evenSamples.data(),
+                            image.albedo.data(),      image.normal.data(),   image.depth.data()};
+    } else {
+      rgb_.Upload(image.rgb);
+      variance_.Upload(image.variance);
+      samples_.Upload(image.samples);
+      evenRgb_.Upload(image.evenRgb);
+      evenSamples_.Upload(image.evenSamples);
+      albedo_.Upload(image.albedo);
+      normal_.Upload(image.normal);
+      depth_.Upload(image.depth);
+      input_ = DenoiseInput{rgb_.Data(),     variance_.Data(), samples_.Data(), evenRgb_.Data(),
+                            evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
+    }
   }
 
   void Fill(const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
-    DenoiseInput in{rgb_.Data(),     variance_.Data(), samples_.Data(), evenRgb_.Data(),
-                    evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
+    DenoiseInput in = input_;
     backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
                          [=] PT_HD(uint32_t i) { DenoiseFillPixel(d, in, i); });
     if (s.outliers) Outliers();
@@ -255,20 +268,22 @@ class DenoiseRunner {
     uint32_t padFirst = (d.padY - uint32_t(radius)) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (d.height + 2 * uint32_t(radius)) * d.stride,
                          [=] PT_HD(uint32_t i) { DenoiseErrorPadPixel(d, count, padFirst + i); });
-    out_.Resize(size_t(3) * d.width * d.height);
-    float* out = out_.Data();
-    if constexpr (Backend::kHostMemory) {
+    if constexpr (Backend::kHostMemory) {  // straight into the image
+      image.denoised.resize(size_t(3) * d.width * d.height);
+      float* out = image.denoised.data();
       backend_.ParallelFor(Stage::kAccumulate, d.height, [=](uint32_t y) {
         std::vector<float> acc(size_t(kDenoiseCandidates) * d.width);
         DenoiseSelectRow(d, count, radius, out, y, acc.data());
       });
     } else {
+      out_.Resize(size_t(3) * d.width * d.height);
+      float* out = out_.Data();
       backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
         DenoiseFinishPixel(d, count, radius, out, i);
       });
+      backend_.Synchronize();
+      out_.Download(image.denoised);
     }
-    backend_.Synchronize();
-    out_.Download(image.denoised);
   }
 
  private:
@@ -280,6 +295,7 @@ class DenoiseRunner {
   double passesMs_ = 0.0;
   DenoisePlanes planes_{};
   DenoiseBandwidths bandwidths_{};
+  DenoiseInput input_{};
   Buffer<float> store_, out_;
   Buffer<float> rgb_, variance_, evenRgb_, albedo_, normal_, depth_;
   Buffer<uint32_t> samples_, evenSamples_;
