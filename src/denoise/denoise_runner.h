@@ -248,7 +248,8 @@ class DenoiseRunner {
         size_t origin = (band.r0 + planes_.padY - f) * planes_.stride - f;
         for (int g = 0; g < maxGroup; ++g) {
           for (int h = 0; h < kDenoiseHalves; ++h) {
-            size_t plane = (size_t(task) * size_t(maxGroup) + size_t(g)) * kDenoiseHalves + size_t(h);
+            size_t plane = size_t(task) * size_t(maxGroup) + size_t(g);
+            plane = plane * kDenoiseHalves + size_t(h);
             band.d.dist[g][h] = distStore_ + plane * distRegion_ - origin;
           }
         }
