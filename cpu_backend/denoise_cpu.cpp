@@ -93,8 +93,9 @@ bool CpuDenoiserHasAvx512() {
          __builtin_cpu_supports("avx512cd");
 }
 
-// Tiles of 32 rows of 128 padded pixels: the planes the 225 offsets read (distances and sums
-// included, about 1.3 MB) stay in a core's L2 cache.
+// Tiles of 16 rows of 128 padded pixels: the planes the 225 offsets read (the sums, a row's
+// 30 distance planes and the inputs the window reaches, about 0.85 MB) stay in a core's L2
+// cache, 1 MB on the EPYC where 32 rows (1.5 MB with whole-row groups) took 7% longer.
 std::unique_ptr<Denoiser> MakeCpuDenoiser(int threads, const DenoiseSettings& settings) {
   return std::make_unique<CpuDenoiser>(threads, settings, CpuDenoiseOptions{});
 }

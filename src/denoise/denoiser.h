@@ -40,7 +40,7 @@ std::unique_ptr<Denoiser> MakeCudaDenoiser(int device, const DenoiseSettings& se
 // to 15 offsets per pass, else 8; nlm_stages.h). The image is the same bit for bit whatever
 // they are.
 struct CpuDenoiseOptions {
-  uint32_t tileRows = 32, tileColumns = 128;
+  uint32_t tileRows = 16, tileColumns = 128;
   bool avx512 = true;
   bool wideGroups = true;
 };
