@@ -6,7 +6,9 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cpu_backend/thread_pool.h"
@@ -30,6 +32,26 @@ struct HostMemoryTracker {
   }
 };
 
+// std::allocator that default-initialises: a vector's resize(n) leaves new floats as they are.
+template <typename T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <typename U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+};
+
 class CpuBackend {
  public:
   template <typename T>
@@ -40,13 +62,18 @@ class CpuBackend {
     Buffer& operator=(const Buffer&) = delete;
     ~Buffer() { HostMemoryTracker::Change(Bytes(), 0); }
 
-    void Resize(size_t n) { Tracked([&] { data_.resize(n); }); }
-    void Upload(const std::vector<T>& src) { Tracked([&] { data_ = src; }); }
+    void Resize(size_t n) { Tracked([&] { data_.resize(n, T{}); }); }
+    // New elements left unset, for a buffer whose readers read only what was written (the
+    // denoiser's planes: zeroing 420 MB took 0.2 s more at 1080p, one thread faulting it in).
+    void ResizeForOverwrite(size_t n) { Tracked([&] { data_.resize(n); }); }
+    void Upload(const std::vector<T>& src) {
+      Tracked([&] { data_.assign(src.begin(), src.end()); });
+    }
     void UploadBytes(const void* src, size_t bytes) {
-      Tracked([&] { data_.resize((bytes + sizeof(T) - 1) / sizeof(T)); });
+      Tracked([&] { data_.resize((bytes + sizeof(T) - 1) / sizeof(T), T{}); });
       if (bytes) std::memcpy(data_.data(), src, bytes);
     }
-    void Download(std::vector<T>& dst) const { dst = data_; }
+    void Download(std::vector<T>& dst) const { dst.assign(data_.begin(), data_.end()); }
     void Zero() { std::fill(data_.begin(), data_.end(), T{}); }
     T* Data() { return data_.empty() ? nullptr : data_.data(); }
     const T* Data() const { return data_.empty() ? nullptr : data_.data(); }
@@ -60,7 +87,7 @@ class CpuBackend {
       change();
       HostMemoryTracker::Change(before, Bytes());
     }
-    std::vector<T> data_;
+    std::vector<T, DefaultInitAllocator<T>> data_;
   };
 
   // The stages run on the host: scene arrays are read in place, never copied.

@@ -146,7 +146,7 @@ TEST(CliParse, HelpAndVersionNeedNothingElse) {
         "--time-limit", "--preview-every", "--crop", "--stats-json", "--quiet", "--version",
         "--adaptive", "--spp-map", "--light-paths", "--tri-test", "--film", "--specialize",
         "--ray-offset", "--max-paths", "--clamp", "--checkpoint-every", "--resume",
-        "--progress-every", "143 SIGTERM"}) {
+        "--progress-every", "--denoise-radius", "143 SIGTERM"}) {
     EXPECT_TRUE(Contains(usage, option)) << option;
   }
 }
@@ -190,6 +190,9 @@ TEST(CliParse, BadCommandLines) {
       {{"s.json", "-o", "o.png", "--reference", "r.txt"}, "unknown image format"},
       {{"s.json", "-o", ""}, "empty file name"},
       {{"s.json", "-o", "o.png", "--max-paths", "0"}, "--max-paths must be between"},
+      {{"s.json", "-o", "o.png", "--denoise-radius", "0"}, "--denoise-radius must be between 1"},
+      {{"s.json", "-o", "o.png", "--denoise-radius", "21"}, "--denoise-radius must be between 1"},
+      {{"s.json", "-o", "o.png", "--denoise-radius", "five"}, "bad number for --denoise-radius"},
       {{"s.json", "-o", "o.png", "--clamp", "0"}, "--clamp must be greater than 0"},
       {{"s.json", "-o", "o.png", "--clamp", "inf"}, "bad number for --clamp"},
       {{"s.json", "-o", "o.png", "--progress-every", "-1"}, "greater than 0"},

@@ -54,6 +54,26 @@ TEST(DenoiseCli, WithoutTheFlagNothingChanges) {
   EXPECT_FALSE(nlohmann::json::parse(ReadText(stats))["time_ms"].contains("denoise"));
 }
 
+// --denoise-radius reaches the denoiser (7 is the default, 3 another image), and a radius out
+// of 1..20 is a bad command line (exit 1, the option named, nothing written).
+TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
+  std::string dir = TempDir();
+  std::string scene = WriteText(dir + "/tiny.json", kTinyScene) + " --spp 8 --denoise --quiet";
+  auto image = [&](const std::string& options, const std::string& name) {
+    EXPECT_EQ(RunPathtracer(scene + options + " -o " + dir + "/" + name), 0) << options;
+    return ReadText(dir + "/" + name);
+  };
+  std::string byDefault = image("", "default.pfm");
+  EXPECT_EQ(image(" --denoise-radius 7", "r7.pfm"), byDefault);
+  EXPECT_NE(image(" --denoise-radius=3", "r3.pfm"), byDefault);
+  for (const char* bad : {" --denoise-radius 0", " --denoise-radius 21", " --denoise-radius x"}) {
+    std::string text;
+    EXPECT_EQ(RunPathtracer(scene + bad + " -o " + dir + "/bad.pfm 2>&1", &text), 1) << bad;
+    EXPECT_NE(text.find("--denoise-radius"), std::string::npos) << text;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/bad.pfm")) << bad;
+  }
+}
+
 TEST(DenoiseCli, ResumingAFilmWithoutHalvesIsRefused) {
   std::string dir = TempDir();
   std::string scene = WriteText(dir + "/tiny.json", kTinyScene);

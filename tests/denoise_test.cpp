@@ -155,8 +155,8 @@ TEST(Denoise, DeterministicAcrossRunsAndThreads) {
 
 // The CPU's loop order and vector code change nothing: tiles of any shape (each tile computes
 // the distances its patches reach past its edge anew, each task into planes of its own) and
-// the x86-64-v3 and AVX-512 code give the image bit for bit, for every patch size and windows
-// whose last group of offsets is full or not.
+// the x86-64-v3 and AVX-512 code and groups of 8 or of a whole window row give the image bit for
+// bit, for every patch size and windows whose last group of offsets is full or not.
 TEST(Denoise, SameImageForAnyTilingAndVectorCode) {
   FilmImage img = SyntheticImage(150, 37, 8, [](int x, int y) {
     SyntheticPixel p;
@@ -167,7 +167,8 @@ TEST(Denoise, SameImageForAnyTilingAndVectorCode) {
     return p;
   });
   const CpuDenoiseOptions options[] = {
-      {32, 128, true}, {32, 128, false}, {1, 8, true}, {7, 16, false}, {5, 1000, true}};
+      {32, 128, true},        {32, 128, false},        {1, 8, true}, {7, 16, false},
+      {5, 1000, true},        {32, 128, true, false}};
   for (int patch = 0; patch <= 3; ++patch) {
     DenoiseSettings s;
     s.patchRadius = patch;
@@ -181,7 +182,8 @@ TEST(Denoise, SameImageForAnyTilingAndVectorCode) {
     for (const CpuDenoiseOptions& o : options) {
       EXPECT_TRUE(BitIdentical(whole, run(o, 3)))
           << "patch " << patch << ", tiles " << o.tileRows << "x" << o.tileColumns
-          << (o.avx512 ? ", AVX-512 if here" : ", x86-64-v3");
+          << (o.avx512 ? ", AVX-512 if here" : ", x86-64-v3")
+          << (o.wideGroups ? "" : ", groups of 8");
     }
   }
   if (!CpuDenoiserHasAvx512()) std::printf("(no AVX-512 on this host: its code did not run)\n");

@@ -215,6 +215,8 @@ const std::vector<std::pair<std::string, Handler>>& ValueOptions() {
       {"--rank-timeout",
        [](CliOptions& o, ValueSource& s) { o.rankTimeoutSeconds = ParsePositiveSeconds(s); }},
       {"--lanes", [](CliOptions& o, ValueSource& s) { o.lanes = ParseInt(s, 1, 16); }},
+      {"--denoise-radius",  // DenoiseSettingsProblem's range
+       [](CliOptions& o, ValueSource& s) { o.denoiseRadius = ParseInt(s, 1, 20); }},
       {"--rr-depth",
        [](CliOptions& o, ValueSource& s) {
          std::string text = s.Take();

@@ -23,6 +23,8 @@ Outputs
                            image and gains denoised.R/G/B
   --denoise-outliers on|off  scale fireflies down to their neighbourhood before denoising
                            (Cycles' outlier detection; default on)
+  --denoise-radius N       the denoiser's search window, (2N + 1)^2 pixels (1..20; default
+                           7; 5 takes about half the time)
 
 Image and sampling
   --spp N                  samples per pixel

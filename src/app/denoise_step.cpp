@@ -17,6 +17,7 @@ std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind bac
   try {
     DenoiseSettings settings;
     settings.outliers = cli.denoiseOutliers;
+    settings.radius = cli.denoiseRadius;
     return make(cuda ? device : cli.threads, settings);
   } catch (const BackendUnavailable& e) {
     throw AppFailure{kExitRuntimeFailure, std::string("--denoise: ") + e.what()};

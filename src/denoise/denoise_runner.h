@@ -71,25 +71,29 @@ class DenoiseRunner {
     DenoisePlanes& d = planes_;
     d.width = width;
     d.height = height;
-    d.padX = uint32_t(s.radius + s.patchRadius);
+    // (At least the selection's radius: its window reads the error planes' padding.)
+    d.padX = uint32_t(std::max(s.radius + s.patchRadius, s.selectRadius));
     d.padY = d.padX + 1;  // a neighbour of a padding column wraps into the next row: in range
     d.stride = width + 2 * d.padX;
     d.rows = height + 2 * d.padY;
     size_t plane = size_t(d.stride) * d.rows;
-    constexpr size_t kDist = 2 * kDenoiseGroup;
     constexpr size_t kPlanes = 2 * 3 + 2 * 3 + 3 + 3 + 1 + 3 + kDenoiseCandidates * (2 * 4 + 1);
     // The CPU's distance planes: each task's own, over a tile's rows and the patches' reach.
-    size_t dist = kDist * plane;
+    size_t dist = 2 * kDenoiseGroup * plane;
     if constexpr (Backend::kHostMemory) {
       tasks_ = uint32_t(backend_.ThreadCount());
       distRegion_ = size_t(TileRows() + 2 * s.patchRadius) * d.stride + 2 * s.patchRadius;
-      dist = kDist * distRegion_ * tasks_;
+      dist = 2 * size_t(MaxGroup(s)) * distRegion_ * tasks_;
     }
     if (store_.Size() != plane * kPlanes + dist) {
-      store_.Resize(plane * kPlanes + dist);
       // The GPU's whole-image passes read distances at the edge they never wrote: zeros keep
-      // them finite. The CPU's tiles read only what they wrote (and zeroing 400 MB costs).
-      if constexpr (!Backend::kHostMemory) store_.Zero();
+      // them finite. The CPU's passes read only what they wrote, and zeroing 420 MB costs.
+      if constexpr (Backend::kHostMemory) {
+        store_.ResizeForOverwrite(plane * kPlanes + dist);
+      } else {
+        store_.Resize(plane * kPlanes + dist);
+        store_.Zero();
+      }
     }
     float* next = store_.Data();
     auto take = [&] {
@@ -118,21 +122,30 @@ class DenoiseRunner {
     distStore_ = next;  // the tasks' distance planes, last (Tiles points below them)
   }
 
+  // The film's arrays where the passes read them: on the CPU in place (a copy would fault in
+  // and fill 116 MB more at 1080p), on a GPU copied to the device.
   void Upload(const FilmImage& image) {
-    rgb_.Upload(image.rgb);
-    variance_.Upload(image.variance);
-    samples_.Upload(image.samples);
-    evenRgb_.Upload(image.evenRgb);
-    evenSamples_.Upload(image.evenSamples);
-    albedo_.Upload(image.albedo);
-    normal_.Upload(image.normal);
-    depth_.Upload(image.depth);
+    if constexpr (Backend::kHostMemory) {
+      input_ = DenoiseInput{image.rgb.data(),         image.variance.data(), image.samples.data(),
+                            image.evenRgb.data(),     image.evenSamples.data(),
+                            image.albedo.data(),      image.normal.data(),   image.depth.data()};
+    } else {
+      rgb_.Upload(image.rgb);
+      variance_.Upload(image.variance);
+      samples_.Upload(image.samples);
+      evenRgb_.Upload(image.evenRgb);
+      evenSamples_.Upload(image.evenSamples);
+      albedo_.Upload(image.albedo);
+      normal_.Upload(image.normal);
+      depth_.Upload(image.depth);
+      input_ = DenoiseInput{rgb_.Data(),     variance_.Data(), samples_.Data(), evenRgb_.Data(),
+                            evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
+    }
   }
 
   void Fill(const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
-    DenoiseInput in{rgb_.Data(),     variance_.Data(), samples_.Data(), evenRgb_.Data(),
-                    evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
+    DenoiseInput in = input_;
     backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
                          [=] PT_HD(uint32_t i) { DenoiseFillPixel(d, in, i); });
     if (s.outliers) Outliers();
@@ -162,34 +175,48 @@ class DenoiseRunner {
                          [=] PT_HD(uint32_t i) { DenoiseOutlierApplyPixel(d, i); });
   }
 
-  // A group of offsets over the image rows [r0, r1): distances over the rows the patches
-  // reach, then the weights and sums.
+  // A group of offsets over the image rows [r0, r1), compiled for its size: 8, or a window
+  // row's last group (nlm_stages.h).
+  void Offsets(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset,
+               const DenoiseSettings& s) {
+    switch (offset.count) {
+      case 1: Offsets<1>(r0, r1, offset, s); break;
+      case 3: Offsets<3>(r0, r1, offset, s); break;
+      case 5: Offsets<5>(r0, r1, offset, s); break;
+      case 7: Offsets<7>(r0, r1, offset, s); break;
+      case kDenoiseGroup: Offsets<kDenoiseGroup>(r0, r1, offset, s); break;
+      default: throw std::logic_error("denoise: no passes for a group of this size");
+    }
+  }
+
+  // Distances over the rows the patches reach, then the weights and sums.
+  template <int kGroup>
   void Offsets(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset,
                const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
     uint32_t f = uint32_t(s.patchRadius);
     size_t first = size_t(r0 + d.padY - f) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0 + 2 * f) * d.stride, [=] PT_HD(uint32_t i) {
-      DenoiseDistancePixel(d, offset, first + size_t(i));
+      DenoiseDistancePixel<kGroup>(d, offset, first + size_t(i));
     });
-    // One kernel per patch size. Every candidate's sums are kept whatever candidateCount says
-    // (those past it are never read): a third of the kernels to compile, and the default
-    // (three candidates) pays nothing for it.
+    // One kernel per patch size and group size. Every candidate's sums are kept whatever
+    // candidateCount says (those past it are never read): a third of the kernels to compile,
+    // and the default (three candidates) pays nothing for it.
     switch (s.patchRadius) {
-      case 0: Accumulate<0, kDenoiseCandidates>(r0, r1, offset); break;
-      case 1: Accumulate<1, kDenoiseCandidates>(r0, r1, offset); break;
-      case 2: Accumulate<2, kDenoiseCandidates>(r0, r1, offset); break;
-      default: Accumulate<3, kDenoiseCandidates>(r0, r1, offset); break;
+      case 0: Accumulate<0, kGroup>(r0, r1, offset); break;
+      case 1: Accumulate<1, kGroup>(r0, r1, offset); break;
+      case 2: Accumulate<2, kGroup>(r0, r1, offset); break;
+      default: Accumulate<3, kGroup>(r0, r1, offset); break;
     }
   }
 
-  template <int kPatch, int kCount>
+  template <int kPatch, int kGroup>
   void Accumulate(uint32_t r0, uint32_t r1, const DenoiseOffsets& offset) {
     DenoisePlanes d = planes_;
     DenoiseBandwidths k = bandwidths_;
     size_t first = size_t(r0 + d.padY) * d.stride;
     backend_.ParallelFor(Stage::kAccumulate, (r1 - r0) * d.stride, [=] PT_HD(uint32_t i) {
-      DenoiseAccumulatePixel<kPatch, kCount>(d, k, offset, first + size_t(i));
+      DenoiseAccumulatePixel<kPatch, kGroup>(d, k, offset, first + size_t(i));
     });
   }
 
@@ -197,17 +224,21 @@ class DenoiseRunner {
     return tiling_.rows ? std::min(tiling_.rows, planes_.height) : planes_.height;
   }
   uint32_t TileColumns() const { return tiling_.columns ? tiling_.columns : planes_.stride; }
+  int MaxGroup(const DenoiseSettings& s) const {
+    return tiling_.maxGroup[size_t(std::min(s.patchRadius, 3))];
+  }
 
   // The CPU's order (denoise_tiles.h): one task per thread takes bands of tile rows from a
   // counter. A task has its own distance planes, so no two threads write one value (a tile's
   // distances reach into its neighbours'); each pixel's sums take the offsets in the GPU's
-  // order, so the image is the same for any tiling and thread count.
+  // order, so the image is the same for any tiling, group size and thread count.
   void Tiles(const DenoiseSettings& s) {
     uint32_t bands = (planes_.height + TileRows() - 1) / TileRows();
-    DenoiseBandFn run = tiling_.bands[size_t(std::min(s.patchRadius, 3))];
+    const DenoiseGroupFns& groups = tiling_.groups[size_t(std::min(s.patchRadius, 3))];
+    int maxGroup = MaxGroup(s);
     std::atomic<uint32_t> next{0};
     backend_.ParallelTasks(Stage::kAccumulate, tasks_, [&](uint32_t task) {
-      DenoiseBand band{planes_, bandwidths_, 0, 0, TileColumns(), s.radius};
+      DenoiseBand band{planes_, bandwidths_, 0, 0, TileColumns(), s.radius, maxGroup};
       for (uint32_t b; (b = next.fetch_add(1, std::memory_order_relaxed)) < bands;) {
         band.r0 = b * TileRows();
         band.r1 = std::min(planes_.height, band.r0 + TileRows());
@@ -215,18 +246,19 @@ class DenoiseRunner {
         // and f more floats either side (f the patch radius). Within store_: they are last.
         size_t f = size_t(s.patchRadius);
         size_t origin = (band.r0 + planes_.padY - f) * planes_.stride - f;
-        for (int g = 0; g < kDenoiseGroup; ++g) {
+        for (int g = 0; g < maxGroup; ++g) {
           for (int h = 0; h < kDenoiseHalves; ++h) {
-            size_t plane = (size_t(task) * kDenoiseGroup + size_t(g)) * kDenoiseHalves + size_t(h);
+            size_t plane = size_t(task) * size_t(maxGroup) + size_t(g);
+            plane = plane * kDenoiseHalves + size_t(h);
             band.d.dist[g][h] = distStore_ + plane * distRegion_ - origin;
           }
         }
-        run(band);
+        DenoiseBandPasses(band, groups);
       }
     });
   }
 
-  // Each candidate's error, then each pixel's choice and value.
+  // Each candidate's error, its padding, then each pixel's choice and value.
   void Finish(FilmImage& image, const DenoiseSettings& s) {
     DenoisePlanes d = planes_;
     int count = s.candidateCount, radius = s.selectRadius;
@@ -234,15 +266,26 @@ class DenoiseRunner {
     backend_.ParallelFor(Stage::kAccumulate, d.height * d.stride, [=] PT_HD(uint32_t i) {
       DenoiseErrorPixel(d, count, first + size_t(i));
     });
-    out_.Resize(size_t(3) * d.width * d.height);
-    float* out = out_.Data();
-    backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
-      DenoiseFinishPixel(d, count, radius, out, i);
-    });
-    backend_.Synchronize();
-    out_.Download(image.denoised);
+    uint32_t padFirst = (d.padY - uint32_t(radius)) * d.stride;
+    backend_.ParallelFor(Stage::kAccumulate, (d.height + 2 * uint32_t(radius)) * d.stride,
+                         [=] PT_HD(uint32_t i) { DenoiseErrorPadPixel(d, count, padFirst + i); });
+    if constexpr (Backend::kHostMemory) {  // straight into the image
+      image.denoised.resize(size_t(3) * d.width * d.height);
+      float* out = image.denoised.data();
+      backend_.ParallelFor(Stage::kAccumulate, d.height, [=](uint32_t y) {
+        std::vector<float> acc(size_t(kDenoiseCandidates) * d.width);
+        DenoiseSelectRow(d, count, radius, out, y, acc.data());
+      });
+    } else {
+      out_.Resize(size_t(3) * d.width * d.height);
+      float* out = out_.Data();
+      backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
+        DenoiseFinishPixel(d, count, radius, out, i);
+      });
+      backend_.Synchronize();
+      out_.Download(image.denoised);
+    }
   }
-
 
  private:
   Backend& backend_;
@@ -253,6 +296,7 @@ class DenoiseRunner {
   double passesMs_ = 0.0;
   DenoisePlanes planes_{};
   DenoiseBandwidths bandwidths_{};
+  DenoiseInput input_{};
   Buffer<float> store_, out_;
   Buffer<float> rgb_, variance_, evenRgb_, albedo_, normal_, depth_;
   Buffer<uint32_t> samples_, evenSamples_;

@@ -36,11 +36,13 @@ std::unique_ptr<Denoiser> MakeCudaDenoiser(int device, const DenoiseSettings& se
 
 // The CPU denoiser's loop order and vector code (cpu_backend/denoise_cpu.cpp), for tests and
 // benchmarks: tiles of tileRows x tileColumns padded pixels (0: the whole image) and AVX-512
-// code where the host has it (else x86-64-v3). The image is the same bit for bit whatever
+// code where the host has it (else x86-64-v3), and wide groups of offsets (a window row of up
+// to 15 offsets per pass, else 8; nlm_stages.h). The image is the same bit for bit whatever
 // they are.
 struct CpuDenoiseOptions {
-  uint32_t tileRows = 32, tileColumns = 128;
+  uint32_t tileRows = 16, tileColumns = 128;
   bool avx512 = true;
+  bool wideGroups = true;
 };
 std::unique_ptr<Denoiser> MakeCpuDenoiserWith(int threads, const DenoiseSettings& settings,
                                               const CpuDenoiseOptions& options);

@@ -32,6 +32,10 @@ constexpr int kDenoiseCandidates = 3;  // candidate filters (denoise_settings.h)
 // Offsets of one row of the window handled per pass: the sums stay in registers across them
 // (a GPU reads and writes them from memory once per group instead of once per offset).
 constexpr int kDenoiseGroup = 8;
+// The CPU's groups for the default patch: a window row of up to 15 columns (radius 7) in one
+// group. Loading and storing a tile's 24 sums costs about 2.5 offsets' work there (L2, not
+// registers); one group a row instead of two saved 11% of the passes at radius 7.
+constexpr int kDenoiseWideGroup = 15;
 
 struct DenoisePlanes {
   uint32_t width = 0, height = 0;    // the image
@@ -45,7 +49,7 @@ struct DenoisePlanes {
   // Per pixel, 1 / max(tau, |grad f|^2) for albedo, normal and depth (depth relative).
   float* featureScale[3];
   // One group of offsets' pixel-wise NL-means distances, per offset and guide.
-  float* dist[kDenoiseGroup][kDenoiseHalves];
+  float* dist[kDenoiseWideGroup][kDenoiseHalves];
   // Per candidate and filtered half: weighted colour differences (RGB) and the weight sum.
   float* sum[kDenoiseCandidates][kDenoiseHalves][4];
   float* error[kDenoiseCandidates];  // per candidate, its SURE error estimate
@@ -200,22 +204,29 @@ PT_HDI float PixelDistance(float* const* mean, float* const* var, size_t p, size
   return DenoiseMax(sum * (1.0f / 3.0f), 0.0f);
 }
 
-// A group of offsets: row offset `row` (dy * stride) and columns first .. first + count - 1
-// (count <= kDenoiseGroup; the rest repeat the first, and the accumulate pass ignores them).
+// A group of offsets: row offset `row` (dy * stride) and columns first .. first + count - 1.
+// The passes are compiled for each group size (their kGroup is count), so no slot is computed
+// only to be weighted 0. A window row of at most maxGroup columns is one group; a longer one
+// is cut into groups of kDenoiseGroup from the left, the last of 1, 3, 5 or 7 (rows have
+// 2 radius + 1 columns). Sizes: 1, 3, 5, 7, 8 and, with maxGroup 15, 9 .. 15 odd.
 struct DenoiseOffsets {
   ptrdiff_t row;
   int first, count;
-  PT_HDI ptrdiff_t Of(int g) const { return row + first + (g < count ? g : 0); }
-  // The group of window row dy from column dx: up to kDenoiseGroup offsets within radius.
-  static PT_HDI DenoiseOffsets Group(int dy, int dx, int radius, uint32_t stride) {
+  PT_HDI ptrdiff_t Of(int g) const { return row + first + g; }
+  // The group of window row dy from column dx.
+  static PT_HDI DenoiseOffsets Group(int dy, int dx, int radius, uint32_t stride,
+                                     int maxGroup = kDenoiseGroup) {
+    int size = 2 * radius + 1 <= maxGroup ? 2 * radius + 1 : kDenoiseGroup;
     return DenoiseOffsets{ptrdiff_t(dy) * ptrdiff_t(stride), dx,
-                          kDenoiseGroup < radius - dx + 1 ? kDenoiseGroup : radius - dx + 1};
+                          size < radius - dx + 1 ? size : radius - dx + 1};
   }
 };
+static_assert(kDenoiseGroup == 8, "the backends' group-size switches list 8, 7, 5, 3 and 1");
 
+template <int kGroup>
 PT_HDI void DenoiseDistancePixel(const DenoisePlanes& d, const DenoiseOffsets& o, size_t p) {
   PT_DENOISE_UNROLL
-  for (int g = 0; g < kDenoiseGroup; ++g) {
+  for (int g = 0; g < kGroup; ++g) {
     size_t q = size_t(ptrdiff_t(p) + o.Of(g));
     d.dist[g][0][p] = PixelDistance(d.half[0], d.halfVar[0], p, q);
     d.dist[g][1][p] = PixelDistance(d.half[1], d.halfVar[1], p, q);
@@ -263,34 +274,34 @@ struct DenoiseBandwidths {
 // Pass 4, per group of offsets, over the padded pixels of a band of rows: for each offset
 // in turn and each candidate, each half's sums take the neighbour with weight
 // exp(-max(patch distance of the OTHER half, feature distance)), both in that candidate's
-// bandwidths. The same additions in the same order as one offset at a time.
-template <int kPatch, int kCount>
+// bandwidths. The same additions in the same order as one offset at a time. kGroup is the
+// group's count (o.count).
+template <int kPatch, int kGroup>
 PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidths& k,
                                    const DenoiseOffsets& o, size_t p) {
   ptrdiff_t stride = ptrdiff_t(d.stride);
-  float sum[kCount][kDenoiseHalves][4], own[kDenoiseHalves][3];
+  float sum[kDenoiseCandidates][kDenoiseHalves][4], own[kDenoiseHalves][3];
   PT_DENOISE_UNROLL
   for (int h = 0; h < kDenoiseHalves; ++h) {
     PT_DENOISE_UNROLL
     for (int c = 0; c < 3; ++c) own[h][c] = d.half[h][c][p];
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       PT_DENOISE_UNROLL
       for (int c = 0; c < 4; ++c) sum[j][h][c] = d.sum[j][h][c][p];
     }
   }
   PT_DENOISE_UNROLL
-  for (int g = 0; g < kDenoiseGroup; ++g) {
+  for (int g = 0; g < kGroup; ++g) {
     size_t q = size_t(ptrdiff_t(p) + o.Of(g));
-    float valid = g < o.count ? 1.0f : 0.0f;
     float feature = FeatureDistance(d, p, q);
     float patch0 = PatchDistance<kPatch>(d.dist[g][0], p, stride);
     float patch1 = PatchDistance<kPatch>(d.dist[g][1], p, stride);
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       float f = feature * k.feature[j];
-      float w0 = valid * DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
-      float w1 = valid * DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
+      float w0 = DenoiseExp(-DenoiseMax(patch1 * k.color[j], f));
+      float w1 = DenoiseExp(-DenoiseMax(patch0 * k.color[j], f));
       AddNeighbour(sum[j][0], d.half[0], own[0], q, w0);
       AddNeighbour(sum[j][1], d.half[1], own[1], q, w1);
     }
@@ -298,7 +309,7 @@ PT_HDI void DenoiseAccumulatePixel(const DenoisePlanes& d, const DenoiseBandwidt
   PT_DENOISE_UNROLL
   for (int h = 0; h < kDenoiseHalves; ++h) {
     PT_DENOISE_UNROLL
-    for (int j = 0; j < kCount; ++j) {
+    for (int j = 0; j < kDenoiseCandidates; ++j) {
       PT_DENOISE_UNROLL
       for (int c = 0; c < 4; ++c) d.sum[j][h][c][p] = sum[j][h][c];
     }
@@ -331,31 +342,68 @@ PT_HDI void DenoiseErrorPixel(const DenoisePlanes& d, int count, size_t p) {
   }
 }
 
-// Pass 6, per image pixel: the candidate whose error estimate, summed over the window of
-// `radius` around the pixel (clamped to the image), is least; the mean of its two filtered
-// halves, interleaved RGB.
+// Pass 6, over the padded pixels of the rows within the selection radius of the image: the
+// error planes' padding repeats their edge pixels (as the other planes' does), so the window
+// sums of the selection read the image's edge without a clamp, which the CPU vectorises.
+PT_HDI void DenoiseErrorPadPixel(const DenoisePlanes& d, int count, uint32_t i) {
+  uint32_t x, y;
+  RepeatedImagePixel(d, i, &x, &y);
+  size_t edge = d.Padded(x, y);
+  if (edge == size_t(i)) return;
+  for (int k = 0; k < count; ++k) d.error[k][i] = d.error[k][edge];
+}
+
+// The candidate whose window error e[k] is least (the first of equal ones; k < count), and the
+// mean of its two filtered halves into rgb. Every candidate's sums are read and the chosen
+// one's selected before dividing: the same values as reading only its own, in vector code.
+PT_HDI void DenoiseChoosePixel(const DenoisePlanes& d, int count, const float* e, size_t p,
+                               float* rgb) {
+  int best = 0;
+  float bestError = e[0];
+  PT_DENOISE_UNROLL
+  for (int k = 1; k < kDenoiseCandidates; ++k) {
+    bool better = k < count && e[k] < bestError;
+    best = better ? k : best;
+    bestError = better ? e[k] : bestError;
+  }
+  PT_DENOISE_UNROLL
+  for (int c = 0; c < 3; ++c) {
+    float half[kDenoiseHalves];
+    PT_DENOISE_UNROLL
+    for (int h = 0; h < kDenoiseHalves; ++h) {
+      float s[kDenoiseCandidates], w[kDenoiseCandidates];
+      PT_DENOISE_UNROLL
+      for (int k = 0; k < kDenoiseCandidates; ++k) {
+        s[k] = d.sum[k][h][c][p];
+        w[k] = d.sum[k][h][3][p];
+      }
+      PT_DENOISE_UNROLL
+      for (int k = 1; k < kDenoiseCandidates; ++k) {
+        s[0] = best == k ? s[k] : s[0];
+        w[0] = best == k ? w[k] : w[0];
+      }
+      half[h] = d.half[h][c][p] + s[0] / w[0];
+    }
+    rgb[c] = 0.5f * (half[0] + half[1]);
+  }
+}
+
+// Pass 7, per image pixel: the candidate whose error estimate, summed over the window of
+// `radius` around the pixel (the padding repeats the edge: pass 6), is least; the mean of its
+// two filtered halves, interleaved RGB. (The CPU sums a row's windows in vector loops in the
+// same order: DenoiseSelectRow.)
 PT_HDI void DenoiseFinishPixel(const DenoisePlanes& d, int count, int radius, float* out,
                                uint32_t i) {
-  int x = int(i % d.width), y = int(i / d.width);
-  int best = 0;
-  float bestError = 0.0f;
+  size_t p = d.Padded(i % d.width, i / d.width);
+  ptrdiff_t stride = ptrdiff_t(d.stride);
+  float e[kDenoiseCandidates] = {};
   for (int k = 0; k < count; ++k) {
-    float e = 0.0f;
     for (int dy = -radius; dy <= radius; ++dy) {
-      int yy = y + dy < 0 ? 0 : (y + dy >= int(d.height) ? int(d.height) - 1 : y + dy);
-      for (int dx = -radius; dx <= radius; ++dx) {
-        int xx = x + dx < 0 ? 0 : (x + dx >= int(d.width) ? int(d.width) - 1 : x + dx);
-        e += d.error[k][d.Padded(uint32_t(xx), uint32_t(yy))];
-      }
+      const float* error = d.error[k] + (ptrdiff_t(p) + dy * stride);
+      for (int dx = -radius; dx <= radius; ++dx) e[k] += error[dx];
     }
-    if (k == 0 || e < bestError) best = k, bestError = e;
   }
-  uint32_t p = d.Padded(uint32_t(x), uint32_t(y));
-  for (int c = 0; c < 3; ++c) {
-    float a = d.half[0][c][p] + d.sum[best][0][c][p] / d.sum[best][0][3][p];
-    float b = d.half[1][c][p] + d.sum[best][1][c][p] / d.sum[best][1][3][p];
-    out[3 * size_t(i) + size_t(c)] = 0.5f * (a + b);
-  }
+  DenoiseChoosePixel(d, count, e, p, out + 3 * size_t(i));
 }
 
 }  // namespace pt
