@@ -8,6 +8,13 @@
 
 namespace pt {
 
+DenoiseSettings DenoiseSettingsOf(const CliOptions& cli) {
+  DenoiseSettings settings;
+  settings.outliers = cli.denoiseOutliers;
+  settings.radius = cli.denoiseRadius;
+  return settings;
+}
+
 std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind backend,
                                           const AppBackends& backends, int device) {
   if (!cli.denoise) return nullptr;
@@ -15,10 +22,7 @@ std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind bac
   DenoiserFactory make = cuda ? backends.cudaDenoiser : backends.cpuDenoiser;
   if (!make) throw AppFailure{kExitRuntimeFailure, "--denoise: this build has no denoiser here"};
   try {
-    DenoiseSettings settings;
-    settings.outliers = cli.denoiseOutliers;
-    settings.radius = cli.denoiseRadius;
-    return make(cuda ? device : cli.threads, settings);
+    return make(cuda ? device : cli.threads, DenoiseSettingsOf(cli));
   } catch (const BackendUnavailable& e) {
     throw AppFailure{kExitRuntimeFailure, std::string("--denoise: ") + e.what()};
   }

@@ -10,6 +10,10 @@
 
 namespace pt {
 
+// The denoiser's settings the options ask for (--denoise-outliers, --denoise-radius); the
+// preview's denoise toggle uses them too.
+DenoiseSettings DenoiseSettingsOf(const CliOptions& cli);
+
 // The denoiser --denoise asks for on this backend (device: the CUDA device), or null without
 // --denoise. Throws AppFailure (exit 3) when the backend cannot make one.
 std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind backend,

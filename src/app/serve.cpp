@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "src/app/app_failure.h"
+#include "src/app/denoise_step.h"
 #include "src/app/outputs.h"
 #include "src/app/run_steps.h"
 #include "src/app/stop_signals.h"
@@ -141,7 +142,8 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
                                                                : backends.cpuDenoiser;
   if (makeDenoiser) {
     int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
-    settings.makeDenoiser = [makeDenoiser, where] { return makeDenoiser(where, DenoiseSettings{}); };
+    DenoiseSettings denoise = DenoiseSettingsOf(cli);
+    settings.makeDenoiser = [makeDenoiser, where, denoise] { return makeDenoiser(where, denoise); };
     settings.denoise = cli.denoise;
   }
   LiveRender live(std::move(document), std::move(scene), factory, settings);
