@@ -47,6 +47,11 @@ TEST(SobolSequence, ReverseBitsAndTheSecondDimensionFollowTheirDefinitions) {
     uint32_t slow = 0;
     for (int b = 0; b < 32; ++b) slow |= ((x >> b) & 1u) << (31 - b);
     EXPECT_EQ(ReverseBits32(x), slow) << x;
+    // Dimension 1 from its direction numbers: v_0 = 2^31, v_j+1 = v_j ^ (v_j >> 1).
+    uint32_t v = 1u << 31, sobol = 0;
+    for (uint32_t i = x; i != 0; i >>= 1, v ^= v >> 1)
+      if (i & 1u) sobol ^= v;
+    EXPECT_EQ(SobolDimension1(x), sobol) << x;
   }
   // Unscrambled, the first two dimensions are a (0,m,2)-net for every m (a (0,2)-sequence).
   for (int k = 0; k <= 12; ++k) {

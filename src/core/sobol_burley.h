@@ -42,14 +42,22 @@ PT_HDI uint32_t NestedUniformScramble(uint32_t x, uint32_t seed) {
   return ReverseBits32(LaineKarrasPermutation(ReverseBits32(x), seed));
 }
 
-// Sobol dimension 1: the generator matrix is Pascal's triangle mod 2, whose columns follow
-// v <- v ^ (v >> 1) from the top bit (dimension 0 is the bit reversal, the van der Corput
-// sequence).
-PT_HDI uint32_t SobolDimension1(uint32_t index) {
-  uint32_t v = 1u << 31, result = 0;
-  for (; index != 0; index >>= 1, v ^= v >> 1) result ^= v & (0u - (index & 1u));
-  return result;
+// Sobol dimension 1 before its final bit reversal. Its generator matrix is Pascal's triangle
+// mod 2 (direction numbers v <- v ^ (v >> 1) from the top bit): bit i of the result is the
+// parity of sum_j C(j, i) index_j, the coefficients of f(t + 1) for f(t) = sum_j index_j t^j
+// over GF(2). With f = lo + t^s hi and (t + 1)^s = t^s + 1 for s a power of two, the shift
+// is done on halves, then lo ^= hi: five masked xor-shifts instead of a loop over 32 bits.
+PT_HDI uint32_t PascalShiftBits(uint32_t index) {
+  index ^= (index >> 1) & 0x55555555u;
+  index ^= (index >> 2) & 0x33333333u;
+  index ^= (index >> 4) & 0x0f0f0f0fu;
+  index ^= (index >> 8) & 0x00ff00ffu;
+  return index ^ (index >> 16);
 }
+
+// Sobol dimension 1 as 0.32 fixed point (dimension 0 is the bit reversal of the index, the
+// van der Corput sequence).
+PT_HDI uint32_t SobolDimension1(uint32_t index) { return ReverseBits32(PascalShiftBits(index)); }
 
 // The Owen-scrambled Sobol pair of sample `index` as 0.32 fixed point. seeds: x shuffles
 // the index (an Owen scramble of the index's bits, which maps each aligned block of 2^k
@@ -57,9 +65,10 @@ PT_HDI uint32_t SobolDimension1(uint32_t index) {
 // scramble the two coordinates.
 PT_HDI glm::uvec2 SobolBurleyPair(uint32_t index, glm::uvec3 seeds) {
   const uint32_t i = NestedUniformScramble(index, seeds.x);
-  // NestedUniformScramble(ReverseBits32(i)) with the two reversals cancelled.
-  const uint32_t x = ReverseBits32(LaineKarrasPermutation(i, seeds.y));
-  return glm::uvec2(x, NestedUniformScramble(SobolDimension1(i), seeds.z));
+  // NestedUniformScramble of ReverseBits32(i) and of SobolDimension1(i), with the reversals
+  // into the scrambles' domain cancelled.
+  return glm::uvec2(ReverseBits32(LaineKarrasPermutation(i, seeds.y)),
+                    ReverseBits32(LaineKarrasPermutation(PascalShiftBits(i), seeds.z)));
 }
 
 }  // namespace pt
