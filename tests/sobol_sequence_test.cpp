@@ -63,6 +63,19 @@ TEST(SobolSequence, ReverseBitsAndTheSecondDimensionFollowTheirDefinitions) {
   }
 }
 
+// SobolBurleyPair, its reversals cancelled, is the paper's composition: shuffle the index by
+// a nested uniform scramble, take Sobol dimensions 0 and 1, scramble each.
+TEST(SobolSequence, PairsAreScrambledSobolPointsOfTheShuffledIndex) {
+  for (glm::uvec3 s : {glm::uvec3(0x1234567u, 0x9abcdefu, 0xdeadbeefu),
+                       glm::uvec3(7u, 0u, 0xffffffffu)})
+    for (uint32_t index : {0u, 1u, 2u, 3u, 100u, 65535u, 0x80000001u}) {
+      glm::uvec2 got = SobolBurleyPair(index, s);
+      uint32_t i = NestedUniformScramble(index, s.x);
+      EXPECT_EQ(got.x, NestedUniformScramble(ReverseBits32(i), s.y)) << index;
+      EXPECT_EQ(got.y, NestedUniformScramble(SobolDimension1(i), s.z)) << index;
+    }
+}
+
 TEST(SobolSequence, EveryPowerOfTwoBlockIsANetInEachPair) {
   for (uint32_t pixel : {0u, 1u, 4097u, 1000003u})
     for (uint32_t seed : {0u, 7u})
