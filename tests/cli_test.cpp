@@ -133,7 +133,7 @@ TEST(CliParse, EnumValues) {
   EXPECT_EQ(with("--bvh-build", "auto").bvhBuilder, BvhBuilder::kAuto);
   EXPECT_EQ(with("--rr-depth", "off").rrDepth, kRussianRouletteOff);
   EXPECT_EQ(with("--rr-depth", "0").rrDepth, 0);
-  EXPECT_EQ(Parse({"s.json", "-o", "o.png"}).sampler, SamplerKind::kIndependent);
+  EXPECT_FALSE(Parse({"s.json", "-o", "o.png"}).sampler.has_value());  // the scene's
   EXPECT_EQ(with("--sampler", "independent").sampler, SamplerKind::kIndependent);
   EXPECT_EQ(with("--sampler", "sobol").sampler, SamplerKind::kSobol);
 }

@@ -176,5 +176,31 @@ TEST(SobolRender, ACropRendersTheFullImagesPixels) {
   EXPECT_EQ(mismatches, 0);
 }
 
+// The scene's render block may ask for the sampler; an option given overrides it.
+TEST(SobolRender, TheSceneFileCanAskForSobolAndTheOptionOverridesIt) {
+  const std::string json = EdgesScene(3, 4);
+  auto withSampler = [&](const std::string& name) {
+    std::string text = json;
+    return text.replace(text.find("\"seed\""), 6, "\"sampler\": \"" + name + "\", \"seed\"");
+  };
+  Scene plain = SceneFromJson(json), sobol = SceneFromJson(withSampler("sobol"));
+  EXPECT_EQ(plain.desc.render.sampler, SamplerKind::kIndependent);
+  ASSERT_EQ(sobol.desc.render.sampler, SamplerKind::kSobol);
+  RenderResult fromScene = RenderOnCpu(sobol);
+  EXPECT_EQ(fromScene.stats.sampler, "sobol");
+  EXPECT_TRUE(SameImage(fromScene.image, RenderOnCpu(plain, SamplerOptions(SamplerKind::kSobol)).image));
+  RenderResult overridden = RenderOnCpu(sobol, SamplerOptions(SamplerKind::kIndependent));
+  EXPECT_EQ(overridden.stats.sampler, "independent");
+  EXPECT_TRUE(SameImage(overridden.image, RenderOnCpu(plain).image));
+  EXPECT_FALSE(SameImage(overridden.image, fromScene.image));
+  try {
+    SceneFromJson(withSampler("halton"));
+    ADD_FAILURE() << "an unknown sampler was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("'halton' is not a sampler"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace pt::test

@@ -112,7 +112,7 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
-      {"sampler", SamplerKindName(options.sampler)},
+      {"sampler", SamplerKindName(options.sampler.value_or(r.sampler))},
       {"media", (cli.fogSigmaS ? "--fog " + Json(*cli.fogSigmaS).dump() : std::string("no --fog")) +
                     (options.transmittance == TransmittanceMode::kDelta ? ", delta tracking"
                                                                         : ", ratio tracking")},

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,7 +66,7 @@ struct RenderOptions {
   LightSampler lightSampler = LightSampler::kAuto;  // how next-event estimation picks a light
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // shadow rays in grid media
   bool halfFilms = false;            // also the even-indexed samples' sum (--denoise's halves)
-  SamplerKind sampler = SamplerKind::kIndependent;  // the random numbers' source (rng.h)
+  std::optional<SamplerKind> sampler;  // the random numbers' source (rng.h); empty: the scene's
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.

@@ -45,8 +45,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.transmittance = o.transmittance;
   // Every wave is cut from the plan's base, so its paths' keys draw from this sampler.
   options_.sampler = o.sampler;
-  plan_.base.sampler = o.sampler;
-  stats_.sampler = SamplerKindName(o.sampler);
+  plan_.base.sampler = o.sampler.value_or(scene_.desc.render.sampler);
+  stats_.sampler = SamplerKindName(plan_.base.sampler);
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;
