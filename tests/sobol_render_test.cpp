@@ -102,7 +102,8 @@ PixelVariance VarianceAcrossSeeds(const std::vector<FilmImage>& images) {
 PixelVariance EdgeVariance(SamplerKind sampler, int spp) {
   std::vector<FilmImage> images;
   for (uint32_t seed = 1; seed <= 12; ++seed)
-    images.push_back(RenderCpu(SceneFromJson(EdgesScene(seed, spp)), SamplerOptions(sampler)).image);
+    images.push_back(
+        RenderCpu(SceneFromJson(EdgesScene(seed, spp)), SamplerOptions(sampler)).image);
   return VarianceAcrossSeeds(images);
 }
 
@@ -188,7 +189,8 @@ TEST(SobolRender, TheSceneFileCanAskForSobolAndTheOptionOverridesIt) {
   ASSERT_EQ(sobol.desc.render.sampler, SamplerKind::kSobol);
   RenderResult fromScene = RenderOnCpu(sobol);
   EXPECT_EQ(fromScene.stats.sampler, "sobol");
-  EXPECT_TRUE(SameImage(fromScene.image, RenderOnCpu(plain, SamplerOptions(SamplerKind::kSobol)).image));
+  EXPECT_TRUE(
+      SameImage(fromScene.image, RenderOnCpu(plain, SamplerOptions(SamplerKind::kSobol)).image));
   RenderResult overridden = RenderOnCpu(sobol, SamplerOptions(SamplerKind::kIndependent));
   EXPECT_EQ(overridden.stats.sampler, "independent");
   EXPECT_TRUE(SameImage(overridden.image, RenderOnCpu(plain).image));
