@@ -103,6 +103,14 @@ TEST_F(CliResume, MoreSamplesContinueACompletedCheckpoint) {
   ASSERT_EQ(Render("two_d", dbl + " --spp 2 --checkpoint-every 1000", &out), 0) << out;
   ASSERT_EQ(Render("more_d", dbl + " --spp 4 --resume " + dir_ + "/two_d.exr", &out), 0) << out;
   EXPECT_EQ(ReadText(dir_ + "/more_d.pfm"), ReadText(dir_ + "/four_d.pfm"));
+  // So does a Sobol film: the samples it adds continue each pixel's sequence.
+  const std::string sobol = cpu + " --sampler sobol";
+  ASSERT_EQ(Render("four_s", sobol + " --spp 4", &out), 0) << out;
+  ASSERT_EQ(Render("two_s", sobol + " --spp 2 --checkpoint-every 1000", &out), 0) << out;
+  ASSERT_EQ(Render("more_s", sobol + " --spp 4 --resume " + dir_ + "/two_s.exr", &out), 0)
+      << out;
+  EXPECT_EQ(ReadText(dir_ + "/more_s.pfm"), ReadText(dir_ + "/four_s.pfm"));
+  EXPECT_NE(ReadText(dir_ + "/four_s.pfm"), ReadText(dir_ + "/four.pfm"));
   // Fewer samples than the film holds cannot be had.
   ASSERT_EQ(Render("fewer", cpu + " --spp 1 --resume " + dir_ + "/two.exr", &out), 2) << out;
   EXPECT_NE(out.find("hold up to 2 samples, more than the 1 spp"), std::string::npos) << out;
@@ -128,6 +136,7 @@ TEST_F(CliResume, AnotherSceneSizeCropSeedOrSettingIsRefused) {
            {" --env-strength 2", "environment (--env, --env-strength): the scene's in the "
                                  "checkpoint, the scene's, strength 2.0 now"},
            {" --env-sampling uniform", "environment sampling"},
+           {" --sampler sobol", "sampler (--sampler): independent in the checkpoint, sobol now"},
        }) {
     SCOPED_TRACE(c.extra);
     EXPECT_EQ(Render("refused", cpu + resume + c.extra, &out), 2) << out;

@@ -198,7 +198,7 @@ TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
         "time_ms", "spp_requested", "samples", "spp_mean", "stop_reason", "signal",
         "interrupted", "resumed", "checkpoints_written", "clamp_luminance", "biased", "rays",
         "msamples_per_s", "mrays_per_s", "bvh", "path_state_bytes_per_path", "paths_in_flight",
-        "memory", "peak_device_bytes", "nonfinite_samples", "reference_relmse"}) {
+        "memory", "peak_device_bytes", "nonfinite_samples", "reference_relmse", "sampler"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["version"], PT_VERSION);
@@ -251,6 +251,27 @@ TEST_F(CliRun, StatsJsonHasEveryKeyOfTheSchema) {
     EXPECT_NE(std::find(effects.begin(), effects.end(), effect), effects.end()) << effect;
   }
   EXPECT_TRUE(j["reference_relmse"].is_array());
+  EXPECT_EQ(j["sampler"], "independent");
+}
+
+// --sampler sobol renders another image of the scene and the statistics say so; a sampler
+// the renderer does not know is a command-line error that writes nothing.
+TEST_F(CliRun, SamplerOptionReachesTheRenderAndTheStats) {
+  std::string out;
+  const std::string stats = dir_ + "/stats.json";
+  const std::string base = scene_ + " --backend cpu --threads 2 --quiet --stats-json " + stats;
+  ASSERT_EQ(RunPathtracer(base + " -o " + dir_ + "/independent.pfm", &out), 0) << out;
+  ASSERT_EQ(RunPathtracer(base + " -o " + dir_ + "/sobol.pfm --sampler sobol", &out), 0) << out;
+  EXPECT_EQ(nlohmann::json::parse(ReadText(stats))["sampler"], "sobol");
+  EXPECT_NE(ReadText(dir_ + "/sobol.pfm"), ReadText(dir_ + "/independent.pfm"));
+  fs::remove(stats);
+  EXPECT_EQ(RunPathtracer(base + " -o " + dir_ + "/bad.pfm --sampler halton", &out), 1) << out;
+  EXPECT_NE(out.find("bad value for --sampler: 'halton' (expected independent|sobol)"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/bad.pfm"));
+  EXPECT_FALSE(fs::exists(stats));
+  for (const char* f : {"/independent.pfm", "/sobol.pfm"}) fs::remove(dir_ + f);
 }
 
 TEST_F(CliRun, ReferenceRelMseIsLogged) {

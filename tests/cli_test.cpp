@@ -133,6 +133,9 @@ TEST(CliParse, EnumValues) {
   EXPECT_EQ(with("--bvh-build", "auto").bvhBuilder, BvhBuilder::kAuto);
   EXPECT_EQ(with("--rr-depth", "off").rrDepth, kRussianRouletteOff);
   EXPECT_EQ(with("--rr-depth", "0").rrDepth, 0);
+  EXPECT_FALSE(Parse({"s.json", "-o", "o.png"}).sampler.has_value());  // the scene's
+  EXPECT_EQ(with("--sampler", "independent").sampler, SamplerKind::kIndependent);
+  EXPECT_EQ(with("--sampler", "sobol").sampler, SamplerKind::kSobol);
 }
 
 TEST(CliParse, HelpAndVersionNeedNothingElse) {
@@ -237,7 +240,8 @@ TEST(CliParse, MalformedValuesOfChoiceOptionsAreErrors) {
                                                          {"--film", "half"},
                                                          {"--specialize", "yes"},
                                                          {"--light-paths", "some"},
-                                                         {"--sort-method", "bogo"}}) {
+                                                         {"--sort-method", "bogo"},
+                                                         {"--sampler", "halton"}}) {
     args.insert(args.begin(), {"s.json", "-o", "o.png"});
     std::string message = ParseError(args);
     EXPECT_TRUE(Contains(message, "bad value")) << args[3] << ": " << message;

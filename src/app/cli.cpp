@@ -289,6 +289,11 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
              s, {{"uniform", LightSampler::kUniform}, {"power", LightSampler::kPower},
                  {"bvh", LightSampler::kBvh}, {"auto", LightSampler::kAuto}});
        }},
+      {"--sampler",
+       [](CliOptions& o, ValueSource& s) {
+         o.sampler = ParseChoice<SamplerKind>(
+             s, {{"independent", SamplerKind::kIndependent}, {"sobol", SamplerKind::kSobol}});
+       }},
       {"--transmittance",
        [](CliOptions& o, ValueSource& s) {
          o.transmittance = ParseChoice<TransmittanceMode>(

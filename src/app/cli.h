@@ -62,6 +62,7 @@ struct CliOptions {
   std::optional<float> envStrength;   // --env-strength
   EnvSampling envSampling = EnvSampling::kImportance;
   LightSampler lightSampler = LightSampler::kAuto;  // --light-sampler
+  std::optional<SamplerKind> sampler;  // --sampler (empty: the scene's render.sampler)
   std::optional<float> fogSigmaS;     // --fog: a homogeneous medium around the camera
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // --transmittance
   std::optional<BvhLayout> bvhLayout;  // empty: auto (see ChooseBvh in run.cpp)

@@ -59,6 +59,8 @@ Camera and environment
                            importance: by luminance x solid angle)
   --light-sampler uniform|power|bvh|auto  how next-event estimation chooses a light (default
                            auto: bvh with 16 or more finite lights, else power)
+  --sampler independent|sobol  the random numbers: independent (pcg4d, default) or
+                           Owen-scrambled Sobol, stratified over each pixel's samples
   --fog SIGMA_S            fill the space around the camera with a homogeneous, white,
                            isotropic medium scattering SIGMA_S per unit length (replaces the
                            scene's "medium"; docs/media.md)

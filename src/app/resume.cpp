@@ -31,6 +31,7 @@ constexpr std::pair<const char*, const char*> kIdentity[] = {
     {"adaptive", "adaptive sampling"},
     {"environment", "environment (--env, --env-strength)"},
     {"env_sampling", "environment sampling"},
+    {"sampler", "sampler (--sampler)"},
     {"texture_filter", "texture filter footprint (follows --spp below 64 spp)"},
     {"media", "media (--fog, --transmittance)"},
 };
@@ -69,6 +70,8 @@ std::string Differences(const Json& saved, const Json& current) {
   std::string lines;
   for (const auto& [key, words] : kIdentity) {
     Json was = saved.contains(key) ? saved[key] : Json(nullptr);
+    // Checkpoints from before --sampler drew independent numbers.
+    if (was.is_null() && std::string(key) == "sampler") was = "independent";
     if (was == current[key]) continue;
     lines += std::string("\n  ") + words + ": " +
              (std::string(key) == "scene_hash"
@@ -109,6 +112,7 @@ Json DescribeRender(const CliOptions& cli, const Scene& scene, const RenderOptio
       {"adaptive", adaptive},
       {"environment", EnvironmentOverrides(cli)},
       {"env_sampling", options.envSampling == EnvSampling::kUniform ? "uniform" : "importance"},
+      {"sampler", SamplerKindName(options.sampler.value_or(r.sampler))},
       {"media", (cli.fogSigmaS ? "--fog " + Json(*cli.fogSigmaS).dump() : std::string("no --fog")) +
                     (options.transmittance == TransmittanceMode::kDelta ? ", delta tracking"
                                                                         : ", ratio tracking")},

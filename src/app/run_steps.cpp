@@ -168,6 +168,7 @@ RenderOptions MakeRenderOptions(const CliOptions& cli, BackendKind backend,
   options.warmUp = cli.warmUp;
   options.envSampling = cli.envSampling;
   options.lightSampler = cli.lightSampler;
+  options.sampler = cli.sampler;
   options.transmittance = cli.transmittance;
   options.clampLuminance = cli.clampLuminance;
   // Feature buffers (albedo, normal, depth) go into an --hdr EXR; --denoise reads them and the

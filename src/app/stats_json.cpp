@@ -184,6 +184,7 @@ Json StatsToJson(const RenderStats& stats, const Scene& scene, const AppTimes& t
       {"light_sampler", Json{{"sampler", stats.lightSampler},
                              {"tree_nodes", scene.lightTree.nodeCount},
                              {"tree_build_ms", scene.lightBvhBuildMs}}},
+      {"sampler", stats.sampler},
       {"compact", stats.compactUsed},
       {"ray_order", stats.rayOrderUsed},
       {"prim_pool", stats.primPoolUsed},

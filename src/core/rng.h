@@ -4,6 +4,7 @@
 #pragma once
 
 #include "src/core/math.h"
+#include "src/core/sobol_burley.h"
 
 namespace pt {
 
@@ -27,11 +28,40 @@ enum RandomDim : uint32_t {
   kDimsPerBounce = 4,
 };
 
+// Where Draw4's numbers come from (--sampler; docs/sampling.md): independent uniform numbers
+// (pcg4d), or Owen-scrambled Sobol pairs (sobol_burley.h), stratified over a pixel's samples.
+enum class SamplerKind : uint32_t { kIndependent = 0, kSobol = 1 };
+
+inline const char* SamplerKindName(SamplerKind s) {
+  return s == SamplerKind::kSobol ? "sobol" : "independent";
+}
+
+// Padded Sobol: group `dim` of `bounce` as two Owen-scrambled Sobol pairs, each seeded by a
+// hash of (pixel, bounce, dim, pair, seed) and indexed by the pixel's sample. Pair 0 is the
+// group's 2D domain, where stratification pays: the pixel jitter (x, y), or the light
+// position and the BSDF direction (y, z); pair 1 takes the rest (lens; light choice and BVH
+// walk; lobe choice and roulette).
+PT_HDI vec4 DrawSobol4(uint32_t pixel, uint32_t sample, uint32_t seed, uint32_t bounce,
+                       uint32_t dim) {
+  constexpr uint32_t kPairSalt = 0x50424f53u;  // keeps the pairs' hashes off pcg4d's inputs
+  const uint32_t group = bounce * kDimsPerBounce + dim;
+  glm::uvec4 h0 = Pcg4d(glm::uvec4(pixel, group, seed, kPairSalt));
+  glm::uvec4 h1 = Pcg4d(glm::uvec4(pixel, group, seed, kPairSalt + 1u));
+  glm::uvec2 a = SobolBurleyPair(sample, glm::uvec3(h0));
+  glm::uvec2 b = SobolBurleyPair(sample, glm::uvec3(h1));
+  vec2 fa(BitsToUnitFloat(a.x), BitsToUnitFloat(a.y));
+  vec2 fb(BitsToUnitFloat(b.x), BitsToUnitFloat(b.y));
+  return dim == kDimCamera ? vec4(fa, fb) : vec4(fb.x, fa.x, fa.y, fb.y);
+}
+
 struct RngKey {
   uint32_t pixel, sample, seed;
+  SamplerKind sampler = SamplerKind::kIndependent;
 
-  // Four uniform numbers for (bounce, dimension group).
+  // Four uniform numbers for (bounce, dimension group). The sampler is the same for every
+  // path of a render: a uniform branch.
   PT_HDI vec4 Draw4(uint32_t bounce, uint32_t dim) const {
+    if (sampler == SamplerKind::kSobol) return DrawSobol4(pixel, sample, seed, bounce, dim);
     glm::uvec4 h = Pcg4d(glm::uvec4(pixel, sample, bounce * kDimsPerBounce + dim, seed));
     return vec4(BitsToUnitFloat(h.x), BitsToUnitFloat(h.y), BitsToUnitFloat(h.z),
                 BitsToUnitFloat(h.w));

@@ -5,10 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "src/core/rng.h"
 #include "src/integrator/shade_queues.h"
 #include "src/scene/scene.h"
 
@@ -64,6 +66,7 @@ struct RenderOptions {
   LightSampler lightSampler = LightSampler::kAuto;  // how next-event estimation picks a light
   TransmittanceMode transmittance = TransmittanceMode::kRatio;  // shadow rays in grid media
   bool halfFilms = false;            // also the even-indexed samples' sum (--denoise's halves)
+  std::optional<SamplerKind> sampler;  // the random numbers' source (rng.h); empty: the scene's
 };
 
 // The accumulated picture: mean radiance, the variance of each pixel's samples, and counts.
@@ -129,6 +132,7 @@ struct RenderStats {
   uint64_t pathsOrdered = 0;       // paths ordered, summed over bounces
   std::string specialization;  // the stage variant that ran
   std::string lightSampler;    // the light sampler that ran (auto's choice)
+  std::string sampler;         // the sampler that drew the random numbers (SamplerKindName)
   std::vector<std::pair<double, double>> referenceRelMse;  // (seconds, relMSE)
 };
 

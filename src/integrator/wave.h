@@ -18,6 +18,7 @@ struct WaveInfo {
   uint32_t cropX0, cropY0, cropWidth;
   uint32_t imageWidth, imageHeight;
   uint32_t seed;
+  SamplerKind sampler;      // --sampler: what the paths' keys draw
 
   PT_HDI uint32_t PathCount() const { return pixelCount * samplesInWave; }
   // Neighbouring slots are neighbouring pixels: coherent camera rays in a warp.
@@ -32,7 +33,7 @@ struct WaveInfo {
   // pixels as the full image.
   PT_HDI RngKey KeyOf(uint32_t id) const {
     uint32_t p = CropPixelOf(id);
-    return RngKey{ImageY(p) * imageWidth + ImageX(p), SampleOf(id), seed};
+    return RngKey{ImageY(p) * imageWidth + ImageX(p), SampleOf(id), seed, sampler};
   }
 };
 

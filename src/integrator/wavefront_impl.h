@@ -43,6 +43,10 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   options_.lightSampler = o.lightSampler;
   ApplyLightSampler();
   options_.transmittance = o.transmittance;
+  // Every wave is cut from the plan's base, so its paths' keys draw from this sampler.
+  options_.sampler = o.sampler;
+  plan_.base.sampler = o.sampler.value_or(scene_.desc.render.sampler);
+  stats_.sampler = SamplerKindName(plan_.base.sampler);
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;
   stats_.compactUsed = compact_;

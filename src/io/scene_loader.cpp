@@ -68,7 +68,8 @@ AdaptiveSettings ParseAdaptive(const JsonObject& a, int64_t spp) {
 }
 
 RenderSettings ParseRender(const JsonObject& r) {
-  r.AllowOnly({"width", "height", "spp", "max_depth", "seed", "russian_roulette_depth", "adaptive"},
+  r.AllowOnly({"width", "height", "spp", "max_depth", "seed", "russian_roulette_depth", "adaptive",
+               "sampler"},
               "render");
   RenderSettings s;
   int64_t width = r.Integer("width", 1, kMaxPixels);
@@ -84,6 +85,12 @@ RenderSettings ParseRender(const JsonObject& r) {
   s.seed = uint32_t(r.IntegerOr("seed", 0, 0, kMaxSeed));
   s.russianRouletteDepth = int(r.IntegerOr("russian_roulette_depth", 3, 0, kMaxBounces));
   if (r.Has("adaptive")) s.adaptive = ParseAdaptive(r.Object("adaptive"), s.spp);
+  if (r.Has("sampler")) {
+    std::string sampler = r.String("sampler");
+    if (sampler != "independent" && sampler != "sobol")
+      r.Fail("sampler", "'" + sampler + "' is not a sampler (independent or sobol)");
+    s.sampler = sampler == "sobol" ? SamplerKind::kSobol : SamplerKind::kIndependent;
+  }
   return s;
 }
 

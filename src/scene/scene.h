@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "src/core/rng.h"
 #include "src/geometry/aabb.h"
 #include "src/media/media_desc.h"
 #include "src/scene/scene_view.h"
@@ -32,6 +33,7 @@ struct RenderSettings {
   uint32_t seed = 0;
   int russianRouletteDepth = 3;
   AdaptiveSettings adaptive;
+  SamplerKind sampler = SamplerKind::kIndependent;  // "sampler" (docs/sampling.md)
   // > 0: the image's intended width / height (a glTF scene's camera aspect ratio, or its
   // default 16:9); --width or --height given alone then sets the other side from it.
   float aspect = 0.0f;

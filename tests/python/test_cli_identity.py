@@ -14,6 +14,7 @@ from conftest import SCENES, SMALL, assert_identical, cli_path, run_cli, scene_d
     ("cornell_box.json", SMALL),
     ("cornell_box.json", dict(SMALL, sort="queues", compact="off", integrator="nee", threads=1)),
     ("cornell_glass_mirror.json", dict(SMALL, max_depth=6, bvh="binary", rr_depth=1)),
+    ("depth_of_field.json", dict(SMALL, sampler="sobol")),
     ("instanced_shapes.json", dict(SMALL, crop="4,2,20,17", sort="material")),
     ("meshes/smooth_shapes.glb", dict(SMALL, width=30, height=None, seed=3)),
 ])

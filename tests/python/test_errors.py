@@ -55,6 +55,7 @@ def test_missing_file_names_it(tmp_path):
     (dict(width=100000), ["--width", "100000"]),
     (dict(crop=(0, 0, 50, 10)), ["--crop", "0,0,50,10"]),
     (dict(integrator="path"), ["--integrator", "path"]),
+    (dict(sampler="halton"), ["--sampler", "halton"]),
     (dict(env="/no/such/map.hdr"), ["--env", "/no/such/map.hdr"]),
     (dict(chunks=9, spp=4, adaptive="off"), ["--chunks", "9", "--spp", "4", "--adaptive", "off"]),
 ])
