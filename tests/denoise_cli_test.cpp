@@ -54,7 +54,7 @@ TEST(DenoiseCli, WithoutTheFlagNothingChanges) {
   EXPECT_FALSE(nlohmann::json::parse(ReadText(stats))["time_ms"].contains("denoise"));
 }
 
-// --denoise-radius reaches the denoiser (7 is the default, 3 another image), and a radius out
+// --denoise-radius reaches the denoiser (5 is the default, 3 another image), and a radius out
 // of 1..20 is a bad command line (exit 1, the option named, nothing written).
 TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
   std::string dir = TempDir();
@@ -64,7 +64,7 @@ TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
     return ReadText(dir + "/" + name);
   };
   std::string byDefault = image("", "default.pfm");
-  EXPECT_EQ(image(" --denoise-radius 7", "r7.pfm"), byDefault);
+  EXPECT_EQ(image(" --denoise-radius 5", "r5.pfm"), byDefault);
   EXPECT_NE(image(" --denoise-radius=3", "r3.pfm"), byDefault);
   for (const char* bad : {" --denoise-radius 0", " --denoise-radius 21", " --denoise-radius x"}) {
     std::string text;

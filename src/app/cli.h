@@ -90,7 +90,7 @@ struct CliOptions {
 
   bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
   bool denoiseOutliers = true;  // --denoise-outliers on|off: fireflies scaled down first
-  int denoiseRadius = 7;        // --denoise-radius N: the search window, (2N + 1)^2 neighbours
+  int denoiseRadius = 5;        // --denoise-radius N: the search window, (2N + 1)^2 neighbours
 
   bool quiet = false;
   bool help = false;

@@ -14,7 +14,7 @@ struct DenoiseCandidate {
 };
 
 struct DenoiseSettings {
-  int radius = 7;          // the search window: (2 radius + 1)^2 neighbours per pixel
+  int radius = 5;          // the search window: (2 radius + 1)^2 neighbours per pixel
   int patchRadius = 1;     // NL-means patches of (2 patchRadius + 1)^2 pixels
   // Candidates (1 to 3), from strict to loose; each pixel takes the one of least estimated
   // error summed over (2 selectRadius + 1)^2 pixels.
