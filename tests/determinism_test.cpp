@@ -1,5 +1,6 @@
 // Same scene and seed give a bit-identical image on the CPU backend whatever the thread
-// count, compaction or sort setting, and whatever the number of paths in flight.
+// count, compaction or sort setting, and whatever the number of paths in flight; with either
+// sampler (--sampler: independent or sobol numbers are both pure functions of the path).
 #include <gtest/gtest.h>
 
 #include "tests/render_test_util.h"
@@ -8,7 +9,8 @@
 namespace pt::test {
 namespace {
 
-RenderResult RenderGlassMirror(int threads, Toggle compact, SortMode sort, size_t pathsInFlight) {
+RenderResult RenderGlassMirror(int threads, Toggle compact, SortMode sort, size_t pathsInFlight,
+                               SamplerKind sampler) {
   SceneDesc desc = LoadScene(SourcePath("scenes/cornell_glass_mirror.json"));
   desc.render.width = desc.render.height = 48;
   desc.render.spp = 6;
@@ -17,11 +19,11 @@ RenderResult RenderGlassMirror(int threads, Toggle compact, SortMode sort, size_
   opt.compact = compact;
   opt.sort = sort;
   opt.maxPathsInFlight = pathsInFlight;
+  opt.sampler = sampler;
   return RenderCpu(BuildScene(std::move(desc)), opt);
 }
 
 TEST(Determinism, BitIdenticalAcrossThreadsCompactionSortAndWaveSize) {
-  RenderResult base = RenderGlassMirror(1, Toggle::kOff, SortMode::kOff, 0);
   const struct {
     int threads;
     Toggle compact;
@@ -33,13 +35,20 @@ TEST(Determinism, BitIdenticalAcrossThreadsCompactionSortAndWaveSize) {
       {2, Toggle::kOn, SortMode::kOff, 1000},    // waves split pixels into tiles
       {2, Toggle::kOn, SortMode::kOff, 48 * 48 * 4},  // several samples per wave
   };
-  for (const auto& v : variants) {
-    RenderResult r = RenderGlassMirror(v.threads, v.compact, v.sort, v.paths);
-    EXPECT_TRUE(BitIdentical(base.image.rgb, r.image.rgb))
-        << "threads " << v.threads << " compact " << int(v.compact) << " sort " << int(v.sort)
-        << " paths " << v.paths;
+  RenderResult first[2];
+  for (SamplerKind sampler : {SamplerKind::kIndependent, SamplerKind::kSobol}) {
+    RenderResult base = RenderGlassMirror(1, Toggle::kOff, SortMode::kOff, 0, sampler);
+    for (const auto& v : variants) {
+      RenderResult r = RenderGlassMirror(v.threads, v.compact, v.sort, v.paths, sampler);
+      EXPECT_TRUE(BitIdentical(base.image.rgb, r.image.rgb))
+          << SamplerKindName(sampler) << ": threads " << v.threads << " compact "
+          << int(v.compact) << " sort " << int(v.sort) << " paths " << v.paths;
+    }
+    EXPECT_EQ(base.stats.nonfiniteSamples, 0u);
+    first[int(sampler)] = std::move(base);
   }
-  EXPECT_EQ(base.stats.nonfiniteSamples, 0u);
+  // The sampler is in effect: the two give other images.
+  EXPECT_FALSE(BitIdentical(first[0].image.rgb, first[1].image.rgb));
 }
 
 }  // namespace

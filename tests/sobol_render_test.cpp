@@ -1,7 +1,7 @@
 // --sampler sobol in whole renders: it estimates the image independent numbers estimate
 // (Welch's t per 8x8 block over seeds), with less noise where a pixel's coverage dominates
-// (emitters' edges seen directly), and keeps the project's bit-identities: the same image for
-// any thread count, compaction, sort or wave size, and a crop renders the full image's pixels.
+// (emitters' edges seen directly), and a crop renders the full image's pixels (the same image
+// for any thread count, compaction, sort or wave size: tests/determinism_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -121,41 +121,6 @@ TEST(SobolRender, LessNoiseWherePixelCoverageDominates) {
       << "summed pixel variance: sobol " << sobol.sum << " +- " << sobol.standardError
       << ", independent " << independent.sum << " +- " << independent.standardError
       << " (ratio " << sobol.sum / independent.sum << ")";
-}
-
-RenderResult GlassMirrorSobol(int threads, Toggle compact, SortMode sort, size_t paths) {
-  Scene scene = SmallScene(SourcePath("scenes/cornell_glass_mirror.json"), 48, 48, 6);
-  RenderOptions o = SamplerOptions(SamplerKind::kSobol, threads);
-  o.compact = compact;
-  o.sort = sort;
-  o.maxPathsInFlight = paths;
-  return RenderCpu(scene, o);
-}
-
-TEST(SobolRender, BitIdenticalAcrossThreadsCompactionSortAndWaveSize) {
-  RenderResult base = GlassMirrorSobol(1, Toggle::kOff, SortMode::kOff, 0);
-  EXPECT_EQ(base.stats.nonfiniteSamples, 0u);
-  const struct {
-    int threads;
-    Toggle compact;
-    SortMode sort;
-    size_t paths;
-  } variants[] = {
-      {2, Toggle::kOff, SortMode::kOff, 0},
-      {2, Toggle::kOn, SortMode::kMaterial, 0},
-      {2, Toggle::kOn, SortMode::kOff, 1000},         // waves split pixels into tiles
-      {2, Toggle::kOn, SortMode::kOff, 48 * 48 * 4},  // several samples per wave
-  };
-  for (const auto& v : variants) {
-    RenderResult r = GlassMirrorSobol(v.threads, v.compact, v.sort, v.paths);
-    EXPECT_TRUE(BitIdentical(base.image.rgb, r.image.rgb))
-        << "threads " << v.threads << " compact " << int(v.compact) << " sort " << int(v.sort)
-        << " paths " << v.paths;
-  }
-  // The sampler is in effect: independent numbers give another image.
-  Scene scene = SmallScene(SourcePath("scenes/cornell_glass_mirror.json"), 48, 48, 6);
-  RenderResult other = RenderCpu(scene, SamplerOptions(SamplerKind::kIndependent, 1));
-  EXPECT_FALSE(BitIdentical(base.image.rgb, other.image.rgb));
 }
 
 TEST(SobolRender, ACropRendersTheFullImagesPixels) {
