@@ -178,6 +178,43 @@ TEST(ServeState, CoarseFramesWhileTheViewMoves) {
   EXPECT_EQ(refined.kind, "render");
 }
 
+// Edits that come faster than one full-resolution sample (a drag on a busy machine) would drop
+// every full pass and show nothing, however fast a sample is said to be: the preview shows
+// coarse frames instead, and once the edits stop, the edit's first full frame is one sample.
+TEST(ServeState, EditsFasterThanASampleShowCoarseFramesThenOneSample) {
+  Served s(1000000, &MakeCpuSession, 256, "scenes/cornell_box.json", [](LiveSettings& l) {
+    l.coarseFrameMs = 1e6;  // a sample is never "slow" by the budget alone
+    l.framesPerSecond = 0.5;
+    l.options.threads = 1;
+  });
+  s.WaitFrame(0, 1);
+  std::atomic<bool> moving{true};
+  std::thread drag([&] {
+    httplib::Client c("127.0.0.1", s.Port());
+    auto end = Clock::now() + milliseconds(1500);
+    for (int i = 0; Clock::now() < end; ++i) {
+      std::string body = "{\"position\": [" + std::to_string(0.001 * (i % 100)) + ", 1, 3.9]}";
+      c.Post("/api/camera", body, "application/json");
+      std::this_thread::sleep_for(milliseconds(3));
+    }
+    moving = false;
+  });
+  int coarse = 0, full = 0;
+  uint64_t after = 0;
+  while (moving) {
+    auto r = s.Client().Get(("/api/frame?after=" + std::to_string(after)).c_str());
+    if (!r || r->status != 200) continue;
+    after = std::stoull(r->get_header_value("X-Frame-Id"));
+    (r->get_header_value("X-Frame-Kind") == "coarse" ? coarse : full) += 1;
+  }
+  drag.join();
+  EXPECT_GE(coarse, 5) << full << " full frames";
+  Served::Frame refined = s.WaitFrame(s.PostJson("/api/camera", R"({"fov_y": 30})")["generation"], 1);
+  EXPECT_EQ(refined.kind, "render");
+  EXPECT_EQ(refined.width, 256);
+  EXPECT_EQ(refined.spp, 1u);
+}
+
 // RenderCoarse is a render at the coarse size: the same pixels as a film of that size.
 TEST(ServeState, ACoarseImageIsTheRenderAtItsSize) {
   SceneDesc desc = LoadScene(SourcePath("scenes/cornell_box.json"));

@@ -214,6 +214,9 @@ class LiveRender {
   std::atomic<bool> coarseUnderWay_{false};  // its waves are not dropped by newer edits
   RenderStats generationStart_, lastPassEnd_;
   double lastPassMs_ = 0.0, msPerSpp_ = 0.0;  // msPerSpp_: a full-resolution sample, measured
+  // A newer edit dropped the last generation's first full-resolution sample: edits come faster
+  // than samples (a drag, a busy machine), so the next edits show as coarse frames.
+  bool editsOutpaceSamples_ = false;
   // What the edits cost: full scene rebuilds, top-level rebuilds (instance moves alone), and
   // the last rebuild's time; reported with every frame's statistics.
   uint64_t sceneRebuilds_ = 0, topLevelRebuilds_ = 0;

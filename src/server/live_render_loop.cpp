@@ -41,8 +41,10 @@ void LiveRender::RenderLoop() {
   while (!stop_) {
     try {
       bool restarted = ApplyEdits();
-      // Only when a full-resolution sample is slow: then a coarse frame shows the edit soon.
-      if (restarted && settings_.coarseFrameMs > 0.0 && msPerSpp_ > 1.5 * settings_.coarseFrameMs) {
+      // Only when a full-resolution sample is slow, or newer edits keep dropping it: then a
+      // coarse frame shows the edit soon.
+      bool slow = msPerSpp_ > 1.5 * settings_.coarseFrameMs || editsOutpaceSamples_;
+      if (restarted && settings_.coarseFrameMs > 0.0 && slow) {
         RenderCoarseFrame();
         continue;
       }
@@ -180,13 +182,19 @@ void LiveRender::RenderPass() {
   uint32_t count = msPerSpp_ > 0.0 ? uint32_t(std::clamp(kPassTargetMs / msPerSpp_, 1.0,
                                                         double(kMaxSamplesPerPass)))
                                    : 1u;
-  count = std::min(count, targetSpp_ - spp_);
+  // An edit's first sample alone, then passes that double: the edit shows after one sample
+  // (a pass of kPassTargetMs would be dropped by the next move of a drag, and show nothing).
+  count = std::min({count, std::max(spp_.load(), 1u), targetSpp_ - spp_});
   uint64_t done;
   {
     std::shared_lock<std::shared_mutex> lock(sceneMutex_);
     done = session_->RenderRange(spp_, spp_ + count);
   }
-  if (done < passSamples * count) return;  // an edit stopped it: the film starts over
+  if (done < passSamples * count) {  // an edit stopped it: the film starts over
+    if (spp_ == 0) editsOutpaceSamples_ = true;
+    return;
+  }
+  editsOutpaceSamples_ = false;
   spp_ += count;
   RenderStats now = session_->Stats();
   lastPassMs_ = now.renderMs - before.renderMs;
