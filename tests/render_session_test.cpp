@@ -161,5 +161,28 @@ TEST(RenderSession, AFilmOfAnotherSizeIsRefused) {
   EXPECT_THROW(session->LoadFilm(wrong), std::invalid_argument);
 }
 
+// The paths a render allocates: the largest wave AppendWaves cuts for the whole crop, over
+// single pixels, one sample, waves of one path, of one pixel row, and more paths than samples.
+TEST(RenderSession, ThePlansCapacityIsItsLargestWave) {
+  for (int w : {1, 7, 64}) {
+    for (int h : {1, 5, 64}) {
+      for (int spp : {0, 1, 3, 100}) {
+        for (size_t maxPaths : {size_t(0), size_t(1), size_t(7), size_t(64), size_t(1000000)}) {
+          RenderSettings render;
+          render.width = w;
+          render.height = h;
+          render.spp = spp;
+          WavePlan plan = MakeWavePlan(render, CropWindow{}, 4096, maxPaths);
+          std::vector<WaveInfo> waves;
+          AppendWaves(plan.base, nullptr, plan.cropPixels, 0, plan.spp, plan.maxPaths, waves);
+          uint32_t largest = 0;
+          for (const WaveInfo& wave : waves) largest = std::max(largest, wave.PathCount());
+          EXPECT_EQ(plan.pathCapacity, largest) << w << "x" << h << " " << spp << " spp, " << maxPaths;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pt::test

@@ -130,6 +130,12 @@ TEST(ServeApi, FlagsChangeLive) {
   s.WaitFrame(g["generation"], 3);
   EXPECT_EQ(s.GetJson("/api/stats")["light_sampler"], "bvh");
   EXPECT_EQ(s.GetJson("/api/scene")["options"]["light_sampler"], "bvh");
+  EXPECT_EQ(s.GetJson("/api/stats")["sampler"], "independent");
+  g = s.PostJson("/api/options", R"({"sampler": "sobol"})");
+  s.WaitFrame(g["generation"], 3);
+  EXPECT_EQ(s.GetJson("/api/stats")["sampler"], "sobol");
+  EXPECT_EQ(s.GetJson("/api/scene")["options"]["sampler"], "sobol");
+  s.PostJson("/api/options", R"({"sampler": "halton"})", 400);
   s.PostJson("/api/options", R"({"light_sampler": "random"})", 400);
   s.PostJson("/api/options", R"({"compact": "sometimes"})", 400);
   s.PostJson("/api/options", R"({"warp": 9})", 400);

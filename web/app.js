@@ -43,7 +43,7 @@ function unitsPerPixel(depth) {
 // The control each field of the server's errors names.
 const fieldInputs = {
   compact: 'f-compact', sort: 'f-sort', integrator: 'f-integrator', specialize: 'f-specialize',
-  light_sampler: 'f-light-sampler', max_depth: 'f-max-depth', spp: 'f-spp', denoise: 'f-denoise',
+  light_sampler: 'f-light-sampler', sampler: 'f-sampler', max_depth: 'f-max-depth', spp: 'f-spp', denoise: 'f-denoise',
   exposure: 'd-exposure', tone_mapping: 'd-tonemap', map: 'l-map', strength: 'l-strength',
   rotation: 'l-rotation',
 };
@@ -271,6 +271,7 @@ function applyState(next, again = false) {
   $('f-integrator').value = o.integrator;
   $('f-specialize').checked = o.specialize;
   $('f-light-sampler').value = o.light_sampler;
+  $('f-sampler').value = o.sampler;
   $('f-max-depth').value = o.max_depth;
   $('f-spp').value = o.spp;
   $('f-denoise').checked = Boolean(o.denoise);
@@ -328,6 +329,7 @@ function bindControls() {
   flag('f-integrator', 'integrator', text);
   flag('f-specialize', 'specialize', (el) => el.checked);
   flag('f-light-sampler', 'light_sampler', text);
+  flag('f-sampler', 'sampler', text);
   flag('f-max-depth', 'max_depth', integer);
   flag('f-spp', 'spp', integer);
   flag('f-denoise', 'denoise', (el) => el.checked);

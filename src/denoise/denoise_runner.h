@@ -272,9 +272,13 @@ class DenoiseRunner {
     if constexpr (Backend::kHostMemory) {  // straight into the image
       image.denoised.resize(size_t(3) * d.width * d.height);
       float* out = image.denoised.data();
-      backend_.ParallelFor(Stage::kAccumulate, d.height, [=](uint32_t y) {
+      // One task per thread takes rows from a counter, with its own row of window sums.
+      std::atomic<uint32_t> next{0};
+      backend_.ParallelTasks(Stage::kAccumulate, tasks_, [&](uint32_t) {
         std::vector<float> acc(size_t(kDenoiseCandidates) * d.width);
-        DenoiseSelectRow(d, count, radius, out, y, acc.data());
+        for (uint32_t y; (y = next.fetch_add(1, std::memory_order_relaxed)) < d.height;) {
+          DenoiseSelectRow(d, count, radius, out, y, acc.data());
+        }
       });
     } else {
       out_.Resize(size_t(3) * d.width * d.height);

@@ -7,14 +7,29 @@
 
 namespace pt {
 
+namespace {
+
+// Waves of `tile` pixels x `samples` samples: every pixel of a tile when the pixels fit in
+// maxPaths, as many of their samples as fit.
+struct WaveShape {
+  uint32_t tile = 0, samples = 1;
+};
+
+WaveShape ShapeOf(uint32_t pixelCount, uint32_t sampleCount, size_t maxPaths) {
+  maxPaths = std::max<size_t>(maxPaths, 1);
+  WaveShape shape;
+  shape.tile = uint32_t(std::min<size_t>(pixelCount, maxPaths));
+  if (shape.tile == pixelCount && pixelCount > 0)
+    shape.samples = uint32_t(std::clamp<size_t>(maxPaths / pixelCount, 1, std::max(sampleCount, 1u)));
+  return shape;
+}
+
+}  // namespace
+
 void AppendWaves(const WaveInfo& base, const uint32_t* pixelList, uint32_t pixelCount,
                  uint32_t sampleStart, uint32_t sampleCount, size_t maxPaths,
                  std::vector<WaveInfo>& waves) {
-  maxPaths = std::max<size_t>(maxPaths, 1);
-  uint32_t tile = uint32_t(std::min<size_t>(pixelCount, maxPaths));
-  uint32_t samplesPerWave = 1;
-  if (tile == pixelCount)
-    samplesPerWave = uint32_t(std::clamp<size_t>(maxPaths / pixelCount, 1, sampleCount));
+  auto [tile, samplesPerWave] = ShapeOf(pixelCount, sampleCount, maxPaths);
   uint32_t end = sampleStart + sampleCount;
   for (uint32_t s = sampleStart; s < end; s += samplesPerWave) {
     for (uint32_t p = 0; p < pixelCount; p += tile) {
@@ -49,8 +64,12 @@ WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
   base.imageWidth = uint32_t(render.width);
   base.imageHeight = uint32_t(render.height);
   base.seed = render.seed;
-  AppendWaves(base, nullptr, plan.cropPixels, 0, plan.spp, plan.maxPaths, plan.waves);
-  for (const WaveInfo& w : plan.waves) plan.pathCapacity = std::max(plan.pathCapacity, w.PathCount());
+  // The largest wave AppendWaves cuts for the whole crop (the first; no list of them is kept:
+  // each render step cuts its own from `base`).
+  if (plan.spp > 0) {
+    WaveShape shape = ShapeOf(plan.cropPixels, plan.spp, plan.maxPaths);
+    plan.pathCapacity = shape.tile * std::min(shape.samples, plan.spp);
+  }
   return plan;
 }
 

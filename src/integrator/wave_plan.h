@@ -13,8 +13,7 @@ struct WavePlan {
   uint32_t spp = 0;
   uint32_t pathCapacity = 0;  // slots to allocate: the largest wave
   size_t maxPaths = 0;
-  WaveInfo base{};            // what every wave shares (crop, image size, seed)
-  std::vector<WaveInfo> waves;
+  WaveInfo base{};            // what every wave shares (crop, image size, seed, sampler)
 };
 
 // Samples go in increasing order for every pixel: wave after wave, a pixel receives sample s

@@ -29,6 +29,8 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
   height_ = scene_.desc.render.height;
   targetSpp_ = uint32_t(scene_.desc.render.spp);
   options_.crop = CropWindow{};
+  // The sampler in force, named in the state (the option, else the scene's render.sampler).
+  options_.sampler = options_.sampler.value_or(scene_.desc.render.sampler);
   options_.adaptive = Toggle::kOff;
   if (settings_.makeDenoiser) {
     denoiser_ = settings_.makeDenoiser();

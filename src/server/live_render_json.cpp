@@ -77,7 +77,8 @@ Json OptionsJson(const RenderOptions& o) {
               {"sort", SortName(o.sort)},
               {"integrator", IntegratorName(o.integrator)},
               {"specialize", o.specialize},
-              {"light_sampler", LightSamplerName(o.lightSampler)}};
+              {"light_sampler", LightSamplerName(o.lightSampler)},
+              {"sampler", SamplerKindName(o.sampler.value_or(SamplerKind::kIndependent))}};
 }
 
 Json IndexOrNull(int index) { return index < 0 ? Json(nullptr) : Json(index); }
@@ -116,6 +117,10 @@ EditAnswer LiveRender::EditOptions(const Json& fields) {
                                                    {"bvh", LightSampler::kBvh},
                                                    {"power", LightSampler::kPower},
                                                    {"uniform", LightSampler::kUniform}});
+          } else if (key == "sampler") {
+            o.sampler = Choice<SamplerKind>(value, "sampler",
+                                            {{"independent", SamplerKind::kIndependent},
+                                             {"sobol", SamplerKind::kSobol}});
           } else if (key == "max_depth") {
             maxDepth = Integer(value, "max_depth");
           } else if (key == "spp") {
@@ -127,7 +132,7 @@ EditAnswer LiveRender::EditOptions(const Json& fields) {
           } else {
             throw EditError(400, "unknown option \"" + key +
                                      "\" (expected compact, sort, integrator, specialize, "
-                                     "light_sampler, max_depth, spp or denoise)");
+                                     "light_sampler, sampler, max_depth, spp or denoise)");
           }
         }
         // The loader's limits, checked before anything changes.
@@ -241,6 +246,7 @@ std::string LiveRender::StatsJson(const RenderStats& now, double passMs, uint32_
   j["sort_used"] = now.sortUsed;
   j["specialization"] = now.specialization;
   j["light_sampler"] = now.lightSampler;
+  j["sampler"] = now.sampler;
   j["rebuilds"] = Json{{"scene", sceneRebuilds_},
                        {"top_level", topLevelRebuilds_},
                        {"last_ms", lastRebuildMs_}};
