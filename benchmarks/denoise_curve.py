@@ -66,10 +66,14 @@ def measure(args):
                 rows.append(dict(base, image="denoised",
                                  seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
                                  relmse=rel_mse(np, dn, r, noise, den)))
-                for name, extra in args.variant_list:  # the same samples, other settings
+                for name, extra in args.variant_list:  # the same film, other settings (or another film)
                     t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend,
                                True, extra)
                     img = read_exr(tmp + "/x.exr")
+                    if args.variant_raw:  # a variant that samples otherwise: its raw image too
+                        vr = np.stack([img[c] for c in "RGB"], -1)
+                        rows.append(dict(base, image=name + " raw", seconds=t["render"] / 1000.0,
+                                         relmse=rel_mse(np, vr, r, noise, den)))
                     dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
                     rows.append(dict(base, image=name,
                                      seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
@@ -108,7 +112,8 @@ def table(rows, label):
         if r["image"] not in ("raw", "denoised") and r["image"] not in extra:
             extra.append(r["image"])
     for name in extra:
-        lines[2] += " denoised, %s, relMSE | s |" % name
+        lines[2] += (" %s relMSE | s |" if name.endswith(" raw") else
+                     " denoised, %s, relMSE | s |") % name
         lines[3] += "---|---|"
     for scene, images in means(rows).items():
         for i, ((spp, ts, es), (_, td, ed)) in enumerate(zip(images["raw"], images["denoised"])):
@@ -159,6 +164,9 @@ def main():
     ap.add_argument("--variant", action="append", default=[], metavar="NAME=OPTIONS",
                     help="also denoise each film with these extra options (e.g. "
                          "'radius 5=--denoise-radius 5'); repeatable")
+    ap.add_argument("--variant-raw", action="store_true",
+                    help="record each variant's raw image too (for variants that sample "
+                         "otherwise, e.g. '--sampler sobol')")
     args = ap.parse_args()
     args.variant_list = [("outliers off", ["--denoise-outliers", "off"])] \
         if args.outliers_off_too else []

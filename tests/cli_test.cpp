@@ -241,7 +241,8 @@ TEST(CliParse, MalformedValuesOfChoiceOptionsAreErrors) {
                                                          {"--specialize", "yes"},
                                                          {"--light-paths", "some"},
                                                          {"--sort-method", "bogo"},
-                                                         {"--sampler", "halton"}}) {
+                                                         {"--sampler", "halton"},
+                                                         {"--denoise-variance", "exact"}}) {
     args.insert(args.begin(), {"s.json", "-o", "o.png"});
     std::string message = ParseError(args);
     EXPECT_TRUE(Contains(message, "bad value")) << args[3] << ": " << message;

@@ -74,6 +74,23 @@ TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
   }
 }
 
+// --denoise-variance reaches the denoiser; without it the variance is the sample variance for
+// independent samples and calibrated for Sobol samples (--sampler or the scene's).
+TEST(DenoiseCli, VarianceOptionReachesTheDenoiser) {
+  std::string dir = TempDir();
+  std::string scene = WriteText(dir + "/tiny.json", kTinyScene) + " --spp 8 --denoise --quiet";
+  auto image = [&](const std::string& options, const std::string& name) {
+    EXPECT_EQ(RunPathtracer(scene + options + " -o " + dir + "/" + name), 0) << options;
+    return ReadText(dir + "/" + name);
+  };
+  std::string byDefault = image("", "default.pfm");
+  EXPECT_EQ(image(" --denoise-variance sample", "sample.pfm"), byDefault);
+  EXPECT_NE(image(" --denoise-variance=calibrated", "calibrated.pfm"), byDefault);
+  std::string sobol = image(" --sampler sobol", "sobol.pfm");
+  EXPECT_EQ(image(" --sampler sobol --denoise-variance calibrated", "sobol_c.pfm"), sobol);
+  EXPECT_NE(image(" --sampler sobol --denoise-variance sample", "sobol_s.pfm"), sobol);
+}
+
 TEST(DenoiseCli, ResumingAFilmWithoutHalvesIsRefused) {
   std::string dir = TempDir();
   std::string scene = WriteText(dir + "/tiny.json", kTinyScene);

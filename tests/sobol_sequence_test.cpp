@@ -170,6 +170,36 @@ TEST(SobolSequence, PairsGroupsBouncesAndPixelsAreDecorrelated) {
   }
 }
 
+// With two half films (--denoise) the even and the odd samples are two replicates (rng.h,
+// kSobolHalves): each half's power-of-two blocks are nets of their own, and the two halves are
+// scrambled independently (decorrelated; not the one sequence's even and odd points).
+TEST(SobolSequence, TheHalvesOfADenoisedFilmAreTwoIndependentNets) {
+  for (uint32_t pixel : {0u, 4097u})
+    for (uint32_t dim : {uint32_t(kDimCamera), uint32_t(kDimBsdf)}) {
+      std::vector<vec2> half[2];
+      for (uint32_t s = 0; s < 512; ++s)
+        half[s & 1u].push_back(
+            PairsOf(RngKey{pixel, s, 3u, SamplerKind::kSobolHalves}.Draw4(1, dim), dim).first);
+      for (int h = 0; h < 2; ++h)
+        for (int k = 0; k <= 8; ++k) {
+          std::vector<vec2> block(half[h].begin(), half[h].begin() + (1u << k));
+          EXPECT_TRUE(IsZeroTwoNet(block, k)) << "pixel " << pixel << " dim " << dim << " half "
+                                             << h << ", 2^" << k;
+        }
+      // Not the one sequence's halves: sample 0 of each half is that sequence's first point
+      // scrambled another way.
+      EXPECT_NE(half[0][0], PairsOf(SobolKey(pixel, 0u, 3u).Draw4(1, dim), dim).first);
+    }
+  const int n = 4096;
+  std::vector<double> even, odd;
+  for (uint32_t i = 0; i < uint32_t(n); ++i) {
+    even.push_back(RngKey{9u, 2 * i, 5u, SamplerKind::kSobolHalves}.Draw4(0, kDimCamera).x);
+    odd.push_back(RngKey{9u, 2 * i + 1, 5u, SamplerKind::kSobolHalves}.Draw4(0, kDimCamera).x);
+  }
+  double bound = TwoSidedNormalQuantile(1e-6) * std::sqrt(std::exp(1.0) / n);
+  EXPECT_LT(std::fabs(Correlation(even, odd)), bound);
+}
+
 // One sample index over many pixels: the scrambles make each value uniform on its own. A
 // chi-square over 64 bins of each coordinate and over 16 x 16 bins of each pair, for a few
 // sample indices; the tests share a false-alarm budget of 1e-5.

@@ -255,6 +255,10 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
        [](CliOptions& o, ValueSource& s) {
          o.denoiseOutliers = ParseChoice<bool>(s, {{"on", true}, {"off", false}});
        }},
+      {"--denoise-variance",
+       [](CliOptions& o, ValueSource& s) {
+         o.denoiseCalibrate = ParseChoice<bool>(s, {{"calibrated", true}, {"sample", false}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

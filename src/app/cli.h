@@ -91,6 +91,8 @@ struct CliOptions {
   bool denoise = false;  // --denoise: -o is denoised, the --hdr EXR gains the denoised layer
   bool denoiseOutliers = true;  // --denoise-outliers on|off: fireflies scaled down first
   int denoiseRadius = 5;        // --denoise-radius N: the search window, (2N + 1)^2 neighbours
+  // --denoise-variance calibrated|sample; empty: calibrated for Sobol samples only
+  std::optional<bool> denoiseCalibrate;
 
   bool quiet = false;
   bool help = false;

@@ -10,13 +10,16 @@
 
 namespace pt {
 
-// The denoiser's settings the options ask for (--denoise-outliers, --denoise-radius); the
+// The denoiser's settings the options ask for (--denoise-outliers, -radius, -variance) for a
+// scene whose render.sampler is `sceneSampler` (--sampler overrides it): without
+// --denoise-variance the variance is calibrated for Sobol samples only (docs/denoise.md). The
 // preview's denoise toggle uses them too.
-DenoiseSettings DenoiseSettingsOf(const CliOptions& cli);
+DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler);
 
 // The denoiser --denoise asks for on this backend (device: the CUDA device), or null without
 // --denoise. Throws AppFailure (exit 3) when the backend cannot make one.
-std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, BackendKind backend,
+std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, SamplerKind sceneSampler,
+                                          BackendKind backend,
                                           const AppBackends& backends, int device);
 
 // image.denoised := the denoised image; its time is added to times (when given). A denoiser

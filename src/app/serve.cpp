@@ -142,7 +142,7 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
                                                                : backends.cpuDenoiser;
   if (makeDenoiser) {
     int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
-    DenoiseSettings denoise = DenoiseSettingsOf(cli);
+    DenoiseSettings denoise = DenoiseSettingsOf(cli, scene.desc.render.sampler);
     settings.makeDenoiser = [makeDenoiser, where, denoise] { return makeDenoiser(where, denoise); };
     settings.denoise = cli.denoise;
   }

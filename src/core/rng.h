@@ -30,10 +30,15 @@ enum RandomDim : uint32_t {
 
 // Where Draw4's numbers come from (--sampler; docs/sampling.md): independent uniform numbers
 // (pcg4d), or Owen-scrambled Sobol pairs (sobol_burley.h), stratified over a pixel's samples.
-enum class SamplerKind : uint32_t { kIndependent = 0, kSobol = 1 };
+// kSobolHalves is what kSobol becomes for a film that keeps two half films (--denoise): the
+// even and the odd samples are two independently scrambled Sobol sequences (replicates), each
+// indexed by sample / 2, so the halves' difference measures their noise (one sequence's halves
+// cancel each other's errors, which the denoiser cannot see; docs/denoise.md). The integrator
+// chooses it; it is never asked for by name.
+enum class SamplerKind : uint32_t { kIndependent = 0, kSobol = 1, kSobolHalves = 2 };
 
 inline const char* SamplerKindName(SamplerKind s) {
-  return s == SamplerKind::kSobol ? "sobol" : "independent";
+  return s == SamplerKind::kIndependent ? "independent" : "sobol";
 }
 
 // Padded Sobol: group `dim` of `bounce` as two Owen-scrambled Sobol pairs, each seeded by a
@@ -61,7 +66,11 @@ struct RngKey {
   // Four uniform numbers for (bounce, dimension group). The sampler is the same for every
   // path of a render: a uniform branch.
   PT_HDI vec4 Draw4(uint32_t bounce, uint32_t dim) const {
-    if (sampler == SamplerKind::kSobol) return DrawSobol4(pixel, sample, seed, bounce, dim);
+    if (sampler != SamplerKind::kIndependent) {
+      bool halves = sampler == SamplerKind::kSobolHalves;
+      uint32_t replicate = halves ? 0x9e3779b9u * ((sample & 1u) + 1u) : 0u;
+      return DrawSobol4(pixel, halves ? sample >> 1 : sample, seed ^ replicate, bounce, dim);
+    }
     glm::uvec4 h = Pcg4d(glm::uvec4(pixel, sample, bounce * kDimsPerBounce + dim, seed));
     return vec4(BitsToUnitFloat(h.x), BitsToUnitFloat(h.y), BitsToUnitFloat(h.z),
                 BitsToUnitFloat(h.w));

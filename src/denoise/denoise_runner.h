@@ -16,6 +16,7 @@
 #include "src/denoise/denoise_tiles.h"
 #include "src/denoise/nlm_outliers.h"
 #include "src/denoise/nlm_stages.h"
+#include "src/denoise/nlm_variance.h"
 #include "src/integrator/render_api.h"
 #include "src/integrator/stage_id.h"
 
@@ -148,6 +149,7 @@ class DenoiseRunner {
     DenoiseInput in = input_;
     backend_.ParallelFor(Stage::kAccumulate, d.stride * d.rows,
                          [=] PT_HD(uint32_t i) { DenoiseFillPixel(d, in, i); });
+    if (s.calibrateVariance) CalibrateVariance();
     if (s.outliers) Outliers();
     float tau = s.featureTau;
     backend_.ParallelFor(Stage::kAccumulate, d.stride * (d.rows - 2),
@@ -157,6 +159,18 @@ class DenoiseRunner {
       bandwidths_.color[k] = 1.0f / (c.colorK * c.colorK);
       bandwidths_.feature[k] = 1.0f / (c.featureK * c.featureK);
     }
+  }
+
+  // The halves' variances scaled to their measured difference (nlm_variance.h).
+  void CalibrateVariance() {
+    DenoisePlanes d = planes_;
+    uint32_t n = d.stride * d.rows;
+    backend_.ParallelFor(Stage::kAccumulate, n,
+                         [=] PT_HD(uint32_t i) { DenoiseVarianceTermsPixel(d, i); });
+    backend_.ParallelFor(Stage::kAccumulate, n,
+                         [=] PT_HD(uint32_t i) { DenoiseVarianceRowPixel(d, i); });
+    backend_.ParallelFor(Stage::kAccumulate, n,
+                         [=] PT_HD(uint32_t i) { DenoiseVarianceScalePixel(d, i); });
   }
 
   // Fireflies scaled down in each half (nlm_outliers.h).

@@ -26,6 +26,10 @@ struct DenoiseSettings {
   // Fireflies scaled down to their neighbourhood's level before filtering (nlm_outliers.h,
   // Cycles' outlier detection): biased, and far less error where rare bright paths are.
   bool outliers = true;
+  // The halves' variances scaled to how far the halves actually differ (nlm_variance.h),
+  // which stratified samples (--sampler sobol) need: their sample variance overstates their
+  // noise. The app turns it on for Sobol samples (src/app/denoise_step.cpp).
+  bool calibrateVariance = false;
 };
 
 // The settings a denoiser accepts; returns an empty string, or what is wrong.

@@ -46,6 +46,8 @@ void WavefrontIntegrator<Backend>::ApplyOptions(const RenderOptions& o) {
   // Every wave is cut from the plan's base, so its paths' keys draw from this sampler.
   options_.sampler = o.sampler;
   plan_.base.sampler = o.sampler.value_or(scene_.desc.render.sampler);
+  if (plan_.base.sampler == SamplerKind::kSobol && options_.halfFilms)
+    plan_.base.sampler = SamplerKind::kSobolHalves;  // two replicates, one per half film
   stats_.sampler = SamplerKindName(plan_.base.sampler);
   FlagChoice flags = ChooseFlags(options_);
   compact_ = flags.compact;

@@ -116,7 +116,8 @@ ScriptResult RenderScript(ScriptScene& scene, const ScriptRequest& request,
     result = setup.factory(built, setup.options, callbacks)->Render();
   }
   std::unique_ptr<Denoiser> denoiser =
-      MakeAppDenoiser(request.cli, setup.backend, backends, setup.options.device);
+      MakeAppDenoiser(request.cli, built.desc.render.sampler, setup.backend, backends,
+                      setup.options.device);
   DenoiseScriptImage(denoiser.get(), result.image, &times);
   ScriptResult out;
   out.stopped = stop.StoppedByUser();
@@ -166,7 +167,8 @@ ProgressiveScript::ProgressiveScript(ScriptScene& scene, ScriptRequest request,
   callbacks.shouldStop = [stop] { return (*stop)(); };
   pixels_ = CropPixels(*built_, setup.options);
   session_ = setup.factory(*built_, setup.options, callbacks);
-  denoiser_ = MakeAppDenoiser(request_.cli, backend_, backends, setup.options.device);
+  denoiser_ = MakeAppDenoiser(request_.cli, built_->desc.render.sampler, backend_, backends,
+                              setup.options.device);
 }
 
 ProgressiveScript::~ProgressiveScript() = default;
