@@ -54,15 +54,22 @@ TEST(DenoiseCli, WithoutTheFlagNothingChanges) {
   EXPECT_FALSE(nlohmann::json::parse(ReadText(stats))["time_ms"].contains("denoise"));
 }
 
+// The tiny scene at 8 spp, denoised with extra options into dir/name: the file's bytes.
+struct TinyDenoised {
+  std::string dir = TempDir();
+  std::string scene = WriteText(dir + "/tiny.json", kTinyScene) + " --spp 8 --denoise --quiet";
+  std::string operator()(const std::string& options, const std::string& name) const {
+    EXPECT_EQ(RunPathtracer(scene + options + " -o " + dir + "/" + name), 0) << options;
+    return ReadText(dir + "/" + name);
+  }
+};
+
 // --denoise-radius reaches the denoiser (5 is the default, 3 another image), and a radius out
 // of 1..20 is a bad command line (exit 1, the option named, nothing written).
 TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
-  std::string dir = TempDir();
-  std::string scene = WriteText(dir + "/tiny.json", kTinyScene) + " --spp 8 --denoise --quiet";
-  auto image = [&](const std::string& options, const std::string& name) {
-    EXPECT_EQ(RunPathtracer(scene + options + " -o " + dir + "/" + name), 0) << options;
-    return ReadText(dir + "/" + name);
-  };
+  TinyDenoised image;
+  const std::string& scene = image.scene;
+  const std::string& dir = image.dir;
   std::string byDefault = image("", "default.pfm");
   EXPECT_EQ(image(" --denoise-radius 5", "r5.pfm"), byDefault);
   EXPECT_NE(image(" --denoise-radius=3", "r3.pfm"), byDefault);
@@ -77,12 +84,7 @@ TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
 // --denoise-variance reaches the denoiser; without it the variance is the sample variance for
 // independent samples and calibrated for Sobol samples (--sampler or the scene's).
 TEST(DenoiseCli, VarianceOptionReachesTheDenoiser) {
-  std::string dir = TempDir();
-  std::string scene = WriteText(dir + "/tiny.json", kTinyScene) + " --spp 8 --denoise --quiet";
-  auto image = [&](const std::string& options, const std::string& name) {
-    EXPECT_EQ(RunPathtracer(scene + options + " -o " + dir + "/" + name), 0) << options;
-    return ReadText(dir + "/" + name);
-  };
+  TinyDenoised image;
   std::string byDefault = image("", "default.pfm");
   EXPECT_EQ(image(" --denoise-variance sample", "sample.pfm"), byDefault);
   EXPECT_NE(image(" --denoise-variance=calibrated", "calibrated.pfm"), byDefault);
