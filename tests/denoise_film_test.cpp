@@ -38,6 +38,25 @@ TEST(HalfFilms, TheEvenHalfHoldsTheEvenSamples) {
   EXPECT_FALSE(BitIdentical(five.evenRgb, five.rgb));
 }
 
+// Under --sampler sobol a film with half films draws its halves from two Sobol replicates
+// (rng.h, kSobolHalves): sample 0 is then not the one sequence's first sample, as it is for
+// independent numbers above; the statistics still name the sampler "sobol".
+TEST(HalfFilms, SobolHalvesAreTwoReplicates) {
+  RenderOptions sobol;
+  sobol.threads = 2;
+  sobol.sampler = SamplerKind::kSobol;
+  RenderOptions halves = Halves();
+  halves.sampler = SamplerKind::kSobol;
+  FilmImage one = RenderOnCpu(BoxScene(1), sobol).image;
+  RenderResult two = RenderOnCpu(BoxScene(2), halves);
+  EXPECT_FALSE(BitIdentical(two.image.evenRgb, one.rgb));
+  EXPECT_EQ(two.stats.sampler, "sobol");
+  halves.sampler = SamplerKind::kIndependent;
+  sobol.sampler = SamplerKind::kIndependent;
+  EXPECT_TRUE(BitIdentical(RenderOnCpu(BoxScene(2), halves).image.evenRgb,
+                           RenderOnCpu(BoxScene(1), sobol).image.rgb));
+}
+
 // A render that does not ask for them keeps no half film (it pays nothing for them).
 TEST(HalfFilms, AbsentUnlessAskedFor) {
   RenderOptions o;
