@@ -51,9 +51,14 @@ PT_HDI void DenoiseVarianceRowPixel(const DenoisePlanes& d, uint32_t i) {
   CalibrationTerm(d, 3)[i] = predicted;
 }
 
-// Pass 3: the row sums summed down the column; each half's variances scaled by the ratio.
+// Pass 3: the row sums summed down the column; each half's variances scaled by the ratio. A
+// padding pixel takes the ratio of the image pixel it repeats, so the padding stays a repeat
+// of the edge (as the outlier passes keep it).
 PT_HDI void DenoiseVarianceScalePixel(const DenoisePlanes& d, uint32_t i) {
-  int32_t y = int32_t(i / d.stride), x = int32_t(i % d.stride);
+  uint32_t imageX, imageY;
+  RepeatedImagePixel(d, i, &imageX, &imageY);
+  size_t centre = d.Padded(imageX, imageY);
+  int32_t y = int32_t(centre / d.stride), x = int32_t(centre % d.stride);
   float measured = 0.0f, predicted = 0.0f;
   for (int dy = -kVarianceWindowRadius; dy <= kVarianceWindowRadius; ++dy) {
     int32_t r = y + dy < 0 ? 0 : (y + dy >= int32_t(d.rows) ? int32_t(d.rows) - 1 : y + dy);

@@ -68,7 +68,7 @@ WavePlan MakeWavePlan(const RenderSettings& render, const CropWindow& crop,
   // each render step cuts its own from `base`).
   if (plan.spp > 0) {
     WaveShape shape = ShapeOf(plan.cropPixels, plan.spp, plan.maxPaths);
-    plan.pathCapacity = shape.tile * std::min(shape.samples, plan.spp);
+    plan.pathCapacity = shape.tile * shape.samples;
   }
   return plan;
 }
