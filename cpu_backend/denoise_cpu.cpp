@@ -66,7 +66,7 @@ DenoiseTiling CpuTiling(const CpuDenoiseOptions& options) {
 class CpuDenoiser final : public Denoiser {
  public:
   CpuDenoiser(int threads, const DenoiseSettings& settings, const CpuDenoiseOptions& options)
-      : backend_(threads), runner_(backend_, CpuTiling(options)), settings_(settings) {}
+      : Denoiser(settings), backend_(threads), runner_(backend_, CpuTiling(options)) {}
 
   void Denoise(FilmImage& image) override {
     auto start = std::chrono::steady_clock::now();
@@ -81,7 +81,6 @@ class CpuDenoiser final : public Denoiser {
  private:
   CpuBackend backend_;
   DenoiseRunner<CpuBackend> runner_;
-  DenoiseSettings settings_;
   double lastMs_ = 0.0;
 };
 

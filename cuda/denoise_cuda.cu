@@ -12,7 +12,7 @@ namespace {
 class CudaDenoiser final : public Denoiser {
  public:
   CudaDenoiser(int device, const DenoiseSettings& settings)
-      : backend_(device), runner_(backend_), settings_(settings) {}
+      : Denoiser(settings), backend_(device), runner_(backend_) {}
 
   void Denoise(FilmImage& image) override {
     backend_.BindThread();  // the calling thread may not be the one that made it
@@ -28,7 +28,6 @@ class CudaDenoiser final : public Denoiser {
  private:
   CudaBackend backend_;
   DenoiseRunner<CudaBackend> runner_;
-  DenoiseSettings settings_;
   double lastMs_ = 0.0;
 };
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
 #include <thread>
 
 #include "src/denoise/denoiser.h"
@@ -13,7 +14,8 @@
 namespace pt::test {
 namespace {
 
-std::unique_ptr<LiveRender> LiveBox(bool withDenoiser) {
+std::unique_ptr<LiveRender> LiveBox(bool withDenoiser,
+                                    std::function<DenoiseSettings(SamplerKind)> bySampler = {}) {
   std::string path = SourcePath("scenes/cornell_box.json");
   SceneDesc desc = LoadScene(path);
   desc.render.width = desc.render.height = 24;
@@ -23,6 +25,7 @@ std::unique_ptr<LiveRender> LiveBox(bool withDenoiser) {
   settings.options.threads = 2;
   settings.framesPerSecond = 50;
   if (withDenoiser) settings.makeDenoiser = [] { return MakeCpuDenoiser(2); };
+  settings.denoiseSettings = std::move(bySampler);
   return std::make_unique<LiveRender>(std::move(document), BuildScene(std::move(desc)),
                                       &MakeCpuSession, settings);
 }
@@ -67,6 +70,39 @@ TEST(DenoiseServe, TheToggleIsPushedAndSaved) {
   ASSERT_TRUE(image);
   EXPECT_GT(spp, 0u);
   EXPECT_EQ(image->denoised.size(), image->rgb.size());
+}
+
+// The variance rule follows the page's sampler flag as the CLI's default does (sample variance
+// for independent samples, calibrated for Sobol): each frame names the one it was denoised with.
+TEST(DenoiseServe, TheVarianceRuleFollowsTheSamplerFlag) {
+  std::unique_ptr<LiveRender> live = LiveBox(true, [](SamplerKind sampler) {
+    DenoiseSettings s;
+    s.calibrateVariance = sampler != SamplerKind::kIndependent;
+    return s;
+  });
+  auto frame = live->WaitForFrame(0, std::chrono::seconds(20));
+  ASSERT_TRUE(frame);
+  live->EditOptions(Json{{"denoise", true}});
+  // The first denoised frame of the generation in force after the edit (or none in 20 s).
+  auto denoisedFrame = [&](uint64_t generation) -> Json {
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < deadline) {
+      frame = live->WaitForFrame(frame->id, std::chrono::seconds(2));
+      if (!frame || frame->generation < generation) continue;
+      Json stats = Json::parse(frame->statsJson);
+      if (stats.contains("denoise_variance")) return stats;
+    }
+    return Json();
+  };
+  Json before = denoisedFrame(frame->generation);
+  ASSERT_TRUE(before.is_object());
+  EXPECT_EQ(before["denoise_variance"], "sample");
+  uint64_t generation = live->EditOptions(Json{{"sampler", "sobol"}}).generation;
+  Json after = denoisedFrame(generation);
+  ASSERT_TRUE(after.is_object());
+  EXPECT_EQ(after["sampler"], "sobol");
+  EXPECT_EQ(after["denoise_variance"], "calibrated");
+  live->Stop();
 }
 
 TEST(DenoiseServe, RefusedWithoutADenoiser) {

@@ -8,16 +8,19 @@
 
 namespace pt {
 
-DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler) {
+DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler) {
   DenoiseSettings settings;
   settings.outliers = cli.denoiseOutliers;
   settings.radius = cli.denoiseRadius;
   // Measured (docs/denoise.md): for independent samples the sample variance is as good or
   // better at 16 spp; for Sobol samples it overstates the noise and blurs detail.
-  SamplerKind sampler = cli.sampler.value_or(sceneSampler);
   settings.calibrateVariance =
       cli.denoiseCalibrate.value_or(sampler != SamplerKind::kIndependent);
   return settings;
+}
+
+DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler) {
+  return DenoiseSettingsFor(cli, cli.sampler.value_or(sceneSampler));
 }
 
 std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, SamplerKind sceneSampler,

@@ -15,6 +15,8 @@ namespace pt {
 // --denoise-variance the variance is calibrated for Sobol samples only (docs/denoise.md). The
 // preview's denoise toggle uses them too.
 DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler);
+// The same for the sampler in force (the preview's, which its page may change).
+DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler);
 
 // The denoiser --denoise asks for on this backend (device: the CUDA device), or null without
 // --denoise. Throws AppFailure (exit 3) when the backend cannot make one.

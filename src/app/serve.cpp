@@ -144,6 +144,13 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
     int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
     DenoiseSettings denoise = DenoiseSettingsOf(cli, scene.desc.render.sampler);
     settings.makeDenoiser = [makeDenoiser, where, denoise] { return makeDenoiser(where, denoise); };
+    // The page's sampler flag changes the variance rule as --sampler does (unless
+    // --denoise-variance fixed it).
+    DenoiseSettings independent = DenoiseSettingsFor(cli, SamplerKind::kIndependent);
+    DenoiseSettings sobol = DenoiseSettingsFor(cli, SamplerKind::kSobol);
+    settings.denoiseSettings = [independent, sobol](SamplerKind sampler) {
+      return sampler == SamplerKind::kIndependent ? independent : sobol;
+    };
     settings.denoise = cli.denoise;
   }
   LiveRender live(std::move(document), std::move(scene), factory, settings);

@@ -15,7 +15,12 @@ namespace pt {
 
 class Denoiser {
  public:
+  explicit Denoiser(const DenoiseSettings& settings) : settings_(settings) {}
   virtual ~Denoiser() = default;
+  // The parameters of the next Denoise calls: the live preview changes the variance rule with
+  // its sampler flag (checked by Denoise, which throws std::invalid_argument on bad ones).
+  const DenoiseSettings& Settings() const { return settings_; }
+  void SetSettings(const DenoiseSettings& settings) { settings_ = settings; }
   // image.denoised := the denoised image (3 floats per pixel). Throws std::invalid_argument
   // when the image lacks features or half buffers (DenoiseInputProblem says which).
   virtual void Denoise(FilmImage& image) = 0;
@@ -24,6 +29,9 @@ class Denoiser {
   virtual double LastMs() const = 0;
   virtual double LastPassesMs() const = 0;
   virtual std::string BackendName() const = 0;
+
+ protected:
+  DenoiseSettings settings_;
 };
 
 // What an image lacks to be denoised, or an empty string.

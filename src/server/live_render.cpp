@@ -34,6 +34,7 @@ LiveRender::LiveRender(SceneDocument document, Scene scene, MakeSessionFn makeSe
   options_.adaptive = Toggle::kOff;
   if (settings_.makeDenoiser) {
     denoiser_ = settings_.makeDenoiser();
+    denoiseAvailable_ = denoiser_ != nullptr;
     options_.featureBuffers = options_.halfFilms = true;
     denoise_ = settings_.denoise;
   }
@@ -82,7 +83,8 @@ std::shared_ptr<const FilmImage> LiveRender::FinalImage(uint32_t* spp) {
     image = std::make_shared<const FilmImage>(session_->Image());
   }
   double ms;  // the encoder has stopped: the denoiser is free
-  return image ? Displayed(image, &ms) : image;
+  return image ? Displayed(image, options_.sampler.value_or(SamplerKind::kIndependent), &ms)
+               : image;
 }
 
 // ---- Reading ----------------------------------------------------------------------------------

@@ -53,6 +53,9 @@ struct LiveSettings {
   // The denoiser frames may be shown through (options "denoise": display only), or null: with
   // one, the film keeps the features and half films it reads; without, the page hides the toggle.
   std::function<std::unique_ptr<Denoiser>()> makeDenoiser;
+  // The denoiser's settings for the sampler a frame was rendered with (null: the denoiser's
+  // own throughout): the variance rule follows the page's sampler flag as the CLI's default does.
+  std::function<DenoiseSettings(SamplerKind)> denoiseSettings;
   bool denoise = false;  // frames denoised from the start (--serve --denoise)
 };
 
@@ -105,7 +108,7 @@ class LiveRender {
   int Width() const { return width_; }
   int Height() const { return height_; }
   DisplaySettings Display() const;
-  bool Denoising() const { return denoiser_ && denoise_; }  // frames are shown denoised
+  bool Denoising() const { return denoiseAvailable_ && denoise_; }  // frames shown denoised
   ChangeFeed& Feed() { return feed_; }
   // The selected object's outline as an RGBA PNG of at most maxSide pixels a side (empty when
   // nothing is selected): src/server/live_outline.cpp.
@@ -160,6 +163,7 @@ class LiveRender {
     uint32_t spp = 0;
     std::string kind;
     std::string statsJson;
+    SamplerKind sampler = SamplerKind::kIndependent;  // what the image was rendered with
     std::chrono::steady_clock::time_point editReceived;  // set on a generation's first frame
     bool waiting = false;
   };
@@ -176,8 +180,10 @@ class LiveRender {
   void EncodeLoop();
   void EncodeAgain();  // the shown image as a frame again (a display setting changed)
   // The frame's image: the film's, or with the denoised layer added when denoising is on (its
-  // time in ms in *ms, else -1). Encoder thread (or after Stop) only.
-  std::shared_ptr<const FilmImage> Displayed(std::shared_ptr<const FilmImage> image, double* ms);
+  // time in ms in *ms, else -1), for an image rendered with `sampler`. Encoder thread (or after
+  // Stop) only.
+  std::shared_ptr<const FilmImage> Displayed(std::shared_ptr<const FilmImage> image,
+                                             SamplerKind sampler, double* ms);
   std::string StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const;
   Json ListMaps() const;
 
@@ -236,8 +242,10 @@ class LiveRender {
   std::shared_ptr<const PreviewFrame> frame_;
   std::shared_ptr<const FilmImage> image_;       // the last full-resolution image
   std::shared_ptr<const FilmImage> shownImage_;  // the image of frame_ (maybe coarse)
+  SamplerKind shownSampler_ = SamplerKind::kIndependent;  // what shownImage_ was rendered with
   std::string progressJson_ = "{}";               // guarded by frameMutex_
   std::unique_ptr<Denoiser> denoiser_;  // used by the encoder thread only (and after Stop)
+  bool denoiseAvailable_ = false;       // denoiser_ was made (read by every thread)
 
   ChangeFeed feed_;
   std::thread renderThread_, encodeThread_;

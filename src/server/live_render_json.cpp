@@ -127,7 +127,7 @@ EditAnswer LiveRender::EditOptions(const Json& fields) {
             spp = Integer(value, "spp");
           } else if (key == "denoise") {
             if (!value.is_boolean()) throw EditError(400, "denoise must be true or false", key);
-            if (!denoiser_) throw EditError(422, "this preview has no denoiser", key);
+            if (!denoiseAvailable_) throw EditError(422, "this preview has no denoiser", key);
             denoise = value.get<bool>();
           } else {
             throw EditError(400, "unknown option \"" + key +
@@ -263,7 +263,7 @@ std::string LiveRender::DescribeJson() const {
   j["render"] = document_.RenderJson();
   j["options"] = OptionsJson(requestedOptions_);
   j["options"]["denoise"] = denoise_.load();
-  j["options"]["denoise_available"] = denoiser_ != nullptr;
+  j["options"]["denoise_available"] = denoiseAvailable_;
   Json cameras = Json::array();
   for (size_t i = 0; i < cameras_.size(); ++i) {
     cameras.push_back(Json{{"index", i}, {"name", cameras_[i].name}});
@@ -304,7 +304,7 @@ std::string LiveRender::StateJson() const {
   Json options = OptionsJson(requestedOptions_);
   options["max_depth"] = document_.RenderJson()["max_depth"];
   options["spp"] = document_.RenderJson()["spp"];
-  if (denoiser_) options["denoise"] = denoise_.load();
+  if (denoiseAvailable_) options["denoise"] = denoise_.load();
   j["options"] = options;
   j["display"] = Json{{"exposure", display_.exposure},
                       {"tone_mapping", ToneMappingName(display_.toneMapping)}};

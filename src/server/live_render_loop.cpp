@@ -230,6 +230,7 @@ void LiveRender::Publish(const std::string& statsJson, bool coarse,
   encoding_->spp = spp_;
   encoding_->kind = coarse ? "coarse" : "render";
   encoding_->statsJson = stats.dump();
+  encoding_->sampler = options_.sampler.value_or(SamplerKind::kIndependent);
   encoding_->editReceived = firstFrameOfGeneration_ ? editReceived_ : LoopClock::time_point();
   encoding_->waiting = true;
   firstFrameOfGeneration_ = false;
@@ -247,6 +248,7 @@ void LiveRender::EncodeAgain() {
   encoding_->spp = frame_->spp;
   encoding_->kind = "display";
   encoding_->statsJson = frame_->statsJson;
+  encoding_->sampler = shownSampler_;
   encoding_->editReceived = LoopClock::time_point();
   encoding_->waiting = true;
   frameReady_.notify_all();
@@ -274,14 +276,21 @@ void LiveRender::EncodeLoop() {
       double denoiseMs = -1.0;
       // Not a frame a waiting edit makes stale: the edit's first frame must not queue behind
       // a denoise (about a second for 512^2 on 2 CPU cores).
-      if (full && !editsWaiting_) job.image = Displayed(job.image, &denoiseMs);
+      if (full && !editsWaiting_) job.image = Displayed(job.image, job.sampler, &denoiseMs);
       bool denoised = denoise_ && !job.image->denoised.empty();
       frame->jpeg = EncodeJpeg(job.image->width, job.image->height,
                                DisplayPixels(denoised ? job.image->denoised : job.image->rgb,
                                              Display()),
                                settings_.jpegQuality);
-      if (denoiseMs >= 0.0) stats["denoise_ms"] = denoiseMs;  // a re-encode keeps its frame's
-      if (!denoised) stats.erase("denoise_ms");
+      if (denoiseMs >= 0.0) {  // a re-encode keeps its frame's
+        stats["denoise_ms"] = denoiseMs;
+        stats["denoise_variance"] = denoiser_->Settings().calibrateVariance ? "calibrated"
+                                                                            : "sample";
+      }
+      if (!denoised) {
+        stats.erase("denoise_ms");
+        stats.erase("denoise_variance");
+      }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());
     }
@@ -296,6 +305,7 @@ void LiveRender::EncodeLoop() {
     lock.lock();
     frame_ = std::move(frame);
     shownImage_ = job.image;
+    shownSampler_ = job.sampler;
     // A re-encode of the last full frame keeps the denoised layer it may have gained.
     if (job.kind == "render" || (job.kind == "display" && full)) image_ = job.image;
     progressJson_ = frame_->statsJson;
@@ -309,9 +319,10 @@ void LiveRender::EncodeLoop() {
 // Coarse frames are never denoised (they carry no features); a denoiser that fails says so and
 // the frame shows the film.
 std::shared_ptr<const FilmImage> LiveRender::Displayed(std::shared_ptr<const FilmImage> image,
-                                                       double* ms) {
+                                                       SamplerKind sampler, double* ms) {
   *ms = -1.0;
   if (!denoise_ || !denoiser_ || !image->denoised.empty()) return image;
+  if (settings_.denoiseSettings) denoiser_->SetSettings(settings_.denoiseSettings(sampler));
   if (std::string problem = DenoiseInputProblem(*image); !problem.empty()) {
     std::fprintf(stderr, "pathtracer: serve: not denoised: %s\n", problem.c_str());
     return image;
