@@ -6,7 +6,10 @@ EXR, which holds the raw beauty and the denoised layer, so raw and denoised come
 samples; the raw time is that run's render (the film keeps its half buffers, a few percent).
 The knee is where the raw curve reaches the denoised one at equal time: beyond it denoising
 no longer pays. Writes denoise_curve.csv and denoise_curve.md under --out; plot it here with
---plot (matplotlib).
+--plot (matplotlib). --split also parts each mean error into the variance the seeds show and
+the bias left (the mean image's error), which tells a filter that averages too little from one
+that blurs; --extra passes options to every render (a sampler, a --crop window: then only the
+crop's pixels count).
 
   python3 benchmarks/denoise_curve.py --binary .device/bin/pathtracer --out $OUT
   /usr/bin/python3 benchmarks/denoise_curve.py --plot benchmarks/results/X/denoise_curve.csv
@@ -35,8 +38,34 @@ def render(binary, scene, size, spp, seed, out, backend, denoise, extra=()):
     return json.load(open(out + ".json"))["time_ms"]
 
 
-def rel_mse(np, x, ref, noise, den):
-    return float(np.mean(((x - ref) ** 2 - noise) / den))
+def rel_mse(np, x, ref, noise, den, mask):
+    return float(np.mean((((x - ref) ** 2 - noise) / den)[mask]))
+
+
+class Split:
+    """Per (scene, spp, image): the seeds' images summed, for the variance / bias split."""
+
+    def __init__(self):
+        self.sums = {}
+
+    def add(self, key, img):
+        s = self.sums.setdefault(key, [0, 0.0, 0.0])
+        s[0] += 1
+        s[1] = s[1] + img.astype("float64")
+        s[2] = s[2] + img.astype("float64") ** 2
+
+    def rows(self, np, ref, noise, den, mask, scene):
+        out = []
+        for (sc, spp, image), (n, s1, s2) in self.sums.items():
+            if sc != scene or n < 2:
+                continue
+            mean = s1 / n
+            var = (s2 - n * mean ** 2) / (n - 1)  # each seed's deviation from the seeds' mean
+            variance = float(np.mean((var / den)[mask]))
+            total = float(np.mean((((s2 - 2 * s1 * ref + n * ref ** 2) / n - noise) / den)[mask]))
+            out.append(dict(scene=sc, spp=spp, image=image, seeds=n, relmse=total,
+                            variance=variance, bias2=total - variance))
+        return out
 
 
 def measure(args):
@@ -47,39 +76,49 @@ def measure(args):
         scene, size = entry.split(":")
         tmp = os.path.join(args.out, "tmp")
         os.makedirs(tmp, exist_ok=True)
-        render(args.binary, scene, size, args.ref_spp, 77, tmp + "/ref", args.backend, False)
+        render(args.binary, scene, size, args.ref_spp, 77, tmp + "/ref", args.backend, False,
+               args.extra)
         ref = read_exr(tmp + "/ref.exr")
         r = np.stack([ref[c] for c in "RGB"], -1)
+        mask = ref["samples"] > 0  # the crop window's pixels (every pixel without --crop)
+        split = Split()
         # The reference's own noise, the variance of its mean, taken out of every squared error.
         noise = np.stack([ref["variance." + c] for c in "RGB"], -1) / \
             np.maximum(ref["samples"], 1)[..., None]
         den = r * r + 1e-2
         for spp in [int(s) for s in args.spps.split(",")]:
             for seed in range(1, args.seeds + 1):
-                t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend, True)
+                t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend, True,
+                           args.extra)
                 img = read_exr(tmp + "/x.exr")
                 raw = np.stack([img[c] for c in "RGB"], -1)
                 dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
                 base = dict(scene=os.path.basename(scene), size=size, spp=spp, seed=seed)
                 rows.append(dict(base, image="raw", seconds=t["render"] / 1000.0,
-                                 relmse=rel_mse(np, raw, r, noise, den)))
+                                 relmse=rel_mse(np, raw, r, noise, den, mask)))
                 rows.append(dict(base, image="denoised",
                                  seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
-                                 relmse=rel_mse(np, dn, r, noise, den)))
+                                 relmse=rel_mse(np, dn, r, noise, den, mask)))
+                split.add((base["scene"], spp, "raw"), raw)
+                split.add((base["scene"], spp, "denoised"), dn)
                 for name, extra in args.variant_list:  # the same film, other settings (or another film)
                     t = render(args.binary, scene, size, spp, seed, tmp + "/x", args.backend,
-                               True, extra)
+                               True, args.extra + extra)
                     img = read_exr(tmp + "/x.exr")
                     if args.variant_raw:  # a variant that samples otherwise: its raw image too
                         vr = np.stack([img[c] for c in "RGB"], -1)
                         rows.append(dict(base, image=name + " raw", seconds=t["render"] / 1000.0,
-                                         relmse=rel_mse(np, vr, r, noise, den)))
+                                         relmse=rel_mse(np, vr, r, noise, den, mask)))
+                        split.add((base["scene"], spp, name + " raw"), vr)
                     dn = np.stack([img["denoised." + c] for c in "RGB"], -1)
                     rows.append(dict(base, image=name,
                                      seconds=(t["render"] + t.get("denoise", 0.0)) / 1000.0,
-                                     relmse=rel_mse(np, dn, r, noise, den)))
+                                     relmse=rel_mse(np, dn, r, noise, den, mask)))
+                    split.add((base["scene"], spp, name), dn)
         print("%s: reference %d spp, own relMSE %.2e" % (scene, args.ref_spp,
-                                                          float(np.mean(noise / den))))
+                                                          float(np.mean((noise / den)[mask]))))
+        if args.split:
+            args.split_rows += split.rows(np, r, noise, den, mask, os.path.basename(scene))
         for f in os.listdir(tmp):
             os.remove(os.path.join(tmp, f))
     with open(os.path.join(args.out, "denoise_curve.csv"), "w", newline="") as f:
@@ -120,6 +159,16 @@ def table(rows, label):
             lines.append("| %s | %d | %.3e | %.3f | %.3e | %.3f |" % (scene, spp, es, ts, ed, td))
             for name in extra:
                 lines[-1] += " %.3e | %.3f |" % (images[name][i][2], images[name][i][1])
+    return "\n".join(lines) + "\n"
+
+
+def split_table(rows):
+    lines = ["", "Each mean relMSE parted (--split) into the variance across seeds and the bias "
+             "left (bias^2 = relMSE - variance).", "",
+             "| scene | spp | image | seeds | relMSE | variance | bias^2 |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append("| %s | %d | %s | %d | %.3e | %.3e | %.3e |" % (
+            r["scene"], r["spp"], r["image"], r["seeds"], r["relmse"], r["variance"], r["bias2"]))
     return "\n".join(lines) + "\n"
 
 
@@ -164,10 +213,16 @@ def main():
     ap.add_argument("--variant", action="append", default=[], metavar="NAME=OPTIONS",
                     help="also denoise each film with these extra options (e.g. "
                          "'radius 5=--denoise-radius 5'); repeatable")
+    ap.add_argument("--extra", default="", help="options for every render, the reference's "
+                    "too (e.g. '--sampler sobol --crop 800 380 1120 640')")
+    ap.add_argument("--split", action="store_true",
+                    help="part each mean error into variance across seeds and bias (>= 2 seeds)")
     ap.add_argument("--variant-raw", action="store_true",
                     help="record each variant's raw image too (for variants that sample "
                          "otherwise, e.g. '--sampler sobol')")
     args = ap.parse_args()
+    args.extra = args.extra.split()
+    args.split_rows = []
     args.variant_list = [("outliers off", ["--denoise-outliers", "off"])] \
         if args.outliers_off_too else []
     for v in args.variant:
@@ -178,6 +233,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     rows = measure(args)
     text = table(rows, args.label or args.backend)
+    if args.split_rows:
+        text += split_table(args.split_rows)
     open(os.path.join(args.out, "denoise_curve.md"), "w").write(text)
     print(text)
 
