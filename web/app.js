@@ -201,7 +201,8 @@ function showProgress(s) {
         (r.scene + r.top_level > 0 ? ` (last ${r.last_ms.toFixed(1)} ms)` : '');
   }
   // The denoiser's time on the frame shown; "off" when the frame is not denoised (coarse ones never are).
-  $('s-denoise').textContent = s.denoise_ms === undefined ? 'off' : s.denoise_ms.toFixed(1);
+  $('s-denoise').textContent = s.denoise_ms === undefined ? 'off' :
+      `${s.denoise_ms.toFixed(1)}` + (s.denoise_variance ? ` (${s.denoise_variance} variance)` : '');
   showStages(s.stage_ms);
 }
 
