@@ -74,17 +74,19 @@ std::shared_ptr<const FilmImage> LiveRender::FinalImage(uint32_t* spp) {
   *spp = 0;
   if (renderThread_.joinable()) return nullptr;  // only after Stop
   std::shared_ptr<const FilmImage> image;
+  // The sampler the image was rendered with: the film's is the render loop's last.
+  SamplerKind sampler = options_.sampler.value_or(SamplerKind::kIndependent);
   if (filmHoldsCoarse_ || spp_ == 0) {
     std::lock_guard<std::mutex> lock(frameMutex_);
     if (image_) *spp = image_->samples.empty() ? 0u : image_->samples[0];
     image = image_;
+    sampler = imageSampler_;
   } else {
     *spp = spp_;
     image = std::make_shared<const FilmImage>(session_->Image());
   }
   double ms;  // the encoder has stopped: the denoiser is free
-  return image ? Displayed(image, options_.sampler.value_or(SamplerKind::kIndependent), &ms)
-               : image;
+  return image ? Displayed(image, sampler, &ms) : image;
 }
 
 // ---- Reading ----------------------------------------------------------------------------------

@@ -241,6 +241,7 @@ class LiveRender {
   std::condition_variable frameReady_;
   std::shared_ptr<const PreviewFrame> frame_;
   std::shared_ptr<const FilmImage> image_;       // the last full-resolution image
+  SamplerKind imageSampler_ = SamplerKind::kIndependent;  // what image_ was rendered with
   std::shared_ptr<const FilmImage> shownImage_;  // the image of frame_ (maybe coarse)
   SamplerKind shownSampler_ = SamplerKind::kIndependent;  // what shownImage_ was rendered with
   std::string progressJson_ = "{}";               // guarded by frameMutex_

@@ -307,7 +307,10 @@ void LiveRender::EncodeLoop() {
     shownImage_ = job.image;
     shownSampler_ = job.sampler;
     // A re-encode of the last full frame keeps the denoised layer it may have gained.
-    if (job.kind == "render" || (job.kind == "display" && full)) image_ = job.image;
+    if (job.kind == "render" || (job.kind == "display" && full)) {
+      image_ = job.image;
+      imageSampler_ = job.sampler;
+    }
     progressJson_ = frame_->statsJson;
     frameReady_.notify_all();
     lock.unlock();
