@@ -177,7 +177,8 @@ TEST(RenderSession, ThePlansCapacityIsItsLargestWave) {
           AppendWaves(plan.base, nullptr, plan.cropPixels, 0, plan.spp, plan.maxPaths, waves);
           uint32_t largest = 0;
           for (const WaveInfo& wave : waves) largest = std::max(largest, wave.PathCount());
-          EXPECT_EQ(plan.pathCapacity, largest) << w << "x" << h << " " << spp << " spp, " << maxPaths;
+          EXPECT_EQ(plan.pathCapacity, largest)
+              << w << "x" << h << " " << spp << " spp, " << maxPaths;
         }
       }
     }

@@ -19,10 +19,6 @@ DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler) {
   return settings;
 }
 
-DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler) {
-  return DenoiseSettingsFor(cli, cli.sampler.value_or(sceneSampler));
-}
-
 std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, SamplerKind sceneSampler,
                                           BackendKind backend,
                                           const AppBackends& backends, int device) {
@@ -31,7 +27,8 @@ std::unique_ptr<Denoiser> MakeAppDenoiser(const CliOptions& cli, SamplerKind sce
   DenoiserFactory make = cuda ? backends.cudaDenoiser : backends.cpuDenoiser;
   if (!make) throw AppFailure{kExitRuntimeFailure, "--denoise: this build has no denoiser here"};
   try {
-    return make(cuda ? device : cli.threads, DenoiseSettingsOf(cli, sceneSampler));
+    return make(cuda ? device : cli.threads,
+                DenoiseSettingsFor(cli, cli.sampler.value_or(sceneSampler)));
   } catch (const BackendUnavailable& e) {
     throw AppFailure{kExitRuntimeFailure, std::string("--denoise: ") + e.what()};
   }

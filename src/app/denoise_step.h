@@ -10,12 +10,10 @@
 
 namespace pt {
 
-// The denoiser's settings the options ask for (--denoise-outliers, -radius, -variance) for a
-// scene whose render.sampler is `sceneSampler` (--sampler overrides it): without
-// --denoise-variance the variance is calibrated for Sobol samples only (docs/denoise.md). The
-// preview's denoise toggle uses them too.
-DenoiseSettings DenoiseSettingsOf(const CliOptions& cli, SamplerKind sceneSampler);
-// The same for the sampler in force (the preview's, which its page may change).
+// The denoiser's settings the options ask for (--denoise-outliers, -radius, -variance) for
+// samples drawn by `sampler`, the one in force (--sampler, else the scene's render.sampler; the
+// preview's page may change it): without --denoise-variance the variance is calibrated for
+// Sobol samples only (docs/denoise.md).
 DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler);
 
 // The denoiser --denoise asks for on this backend (device: the CUDA device), or null without

@@ -140,7 +140,8 @@ int Run(const CliOptions& cli, const AppBackends& backends, AppClock::time_point
   std::optional<FilmState> resumed;
   if (!cli.resumePath.empty()) resumed = LoadResumeFilm(cli, job.description);  // or exit 2
   job.resumeFrom = resumed ? &*resumed : nullptr;
-  std::unique_ptr<Denoiser> denoiser = MakeAppDenoiser(cli, scene.desc.render.sampler, backend, backends, 0);
+  std::unique_ptr<Denoiser> denoiser =
+      MakeAppDenoiser(cli, scene.desc.render.sampler, backend, backends, 0);
   job.denoiser = denoiser.get();
   InstallStopSignals();
   timeline.Mark("setup");

@@ -96,8 +96,9 @@ RankSetup SetUp(const MpiJob& job, const CliOptions& cli, const AppBackends& bac
     d.lanes = cli.lanes.value_or(1);
     d.mergeThreads = 1;
   }
-  if (job.Rank() == 0) s.denoiser = MakeAppDenoiser(cli, s.scene->desc.render.sampler, backend, backends,
-                                                  s.options.device);
+  if (job.Rank() == 0)
+    s.denoiser = MakeAppDenoiser(cli, s.scene->desc.render.sampler, backend, backends,
+                                 s.options.device);
   return s;
 }
 

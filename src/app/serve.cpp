@@ -142,8 +142,6 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
                                                                : backends.cpuDenoiser;
   if (makeDenoiser) {
     int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
-    DenoiseSettings denoise = DenoiseSettingsOf(cli, scene.desc.render.sampler);
-    settings.makeDenoiser = [makeDenoiser, where, denoise] { return makeDenoiser(where, denoise); };
     // The page's sampler flag changes the variance rule as --sampler does (unless
     // --denoise-variance fixed it).
     DenoiseSettings independent = DenoiseSettingsFor(cli, SamplerKind::kIndependent);
@@ -151,6 +149,9 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
     settings.denoiseSettings = [independent, sobol](SamplerKind sampler) {
       return sampler == SamplerKind::kIndependent ? independent : sobol;
     };
+    DenoiseSettings first =
+        settings.denoiseSettings(cli.sampler.value_or(scene.desc.render.sampler));
+    settings.makeDenoiser = [makeDenoiser, where, first] { return makeDenoiser(where, first); };
     settings.denoise = cli.denoise;
   }
   LiveRender live(std::move(document), std::move(scene), factory, settings);

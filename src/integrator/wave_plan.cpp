@@ -20,7 +20,8 @@ WaveShape ShapeOf(uint32_t pixelCount, uint32_t sampleCount, size_t maxPaths) {
   WaveShape shape;
   shape.tile = uint32_t(std::min<size_t>(pixelCount, maxPaths));
   if (shape.tile == pixelCount && pixelCount > 0)
-    shape.samples = uint32_t(std::clamp<size_t>(maxPaths / pixelCount, 1, std::max(sampleCount, 1u)));
+    shape.samples =
+        uint32_t(std::clamp<size_t>(maxPaths / pixelCount, 1, std::max(sampleCount, 1u)));
   return shape;
 }
 

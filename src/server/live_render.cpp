@@ -73,20 +73,18 @@ void LiveRender::Stop() {
 std::shared_ptr<const FilmImage> LiveRender::FinalImage(uint32_t* spp) {
   *spp = 0;
   if (renderThread_.joinable()) return nullptr;  // only after Stop
-  std::shared_ptr<const FilmImage> image;
-  // The sampler the image was rendered with: the film's is the render loop's last.
-  SamplerKind sampler = options_.sampler.value_or(SamplerKind::kIndependent);
+  RenderedImage image;
   if (filmHoldsCoarse_ || spp_ == 0) {
     std::lock_guard<std::mutex> lock(frameMutex_);
-    if (image_) *spp = image_->samples.empty() ? 0u : image_->samples[0];
+    if (image_.film) *spp = image_.film->samples.empty() ? 0u : image_.film->samples[0];
     image = image_;
-    sampler = imageSampler_;
   } else {
     *spp = spp_;
-    image = std::make_shared<const FilmImage>(session_->Image());
+    image = RenderedImage{std::make_shared<const FilmImage>(session_->Image()),
+                          options_.sampler.value_or(SamplerKind::kIndependent)};
   }
   double ms;  // the encoder has stopped: the denoiser is free
-  return image ? Displayed(image, sampler, &ms) : image;
+  return image.film ? Displayed(image, &ms) : image.film;
 }
 
 // ---- Reading ----------------------------------------------------------------------------------
@@ -105,7 +103,7 @@ std::shared_ptr<const PreviewFrame> LiveRender::WaitForFrame(uint64_t after,
 
 std::shared_ptr<const FilmImage> LiveRender::LatestImage() const {
   std::lock_guard<std::mutex> lock(frameMutex_);
-  return image_;
+  return image_.film;
 }
 
 std::string LiveRender::ProgressJson() const {

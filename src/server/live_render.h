@@ -156,14 +156,19 @@ class LiveRender {
     std::map<size_t, glm::dmat4> placements;  // SceneDesc::instances index -> its new toWorld
     std::optional<SceneDesc> lighting;  // environment, background, the sky's sun
   };
+  // A film image and the sampler it was rendered with (which the denoiser's variance rule
+  // follows): kept together wherever an image waits to be shown or saved.
+  struct RenderedImage {
+    std::shared_ptr<const FilmImage> film;
+    SamplerKind sampler = SamplerKind::kIndependent;
+  };
   // The encoder's input: the newest film image waiting to become a frame.
   struct Encoding {
-    std::shared_ptr<const FilmImage> image;
+    RenderedImage image;
     uint64_t generation = 0;
     uint32_t spp = 0;
     std::string kind;
     std::string statsJson;
-    SamplerKind sampler = SamplerKind::kIndependent;  // what the image was rendered with
     std::chrono::steady_clock::time_point editReceived;  // set on a generation's first frame
     bool waiting = false;
   };
@@ -180,10 +185,8 @@ class LiveRender {
   void EncodeLoop();
   void EncodeAgain();  // the shown image as a frame again (a display setting changed)
   // The frame's image: the film's, or with the denoised layer added when denoising is on (its
-  // time in ms in *ms, else -1), for an image rendered with `sampler`. Encoder thread (or after
-  // Stop) only.
-  std::shared_ptr<const FilmImage> Displayed(std::shared_ptr<const FilmImage> image,
-                                             SamplerKind sampler, double* ms);
+  // time in ms in *ms, else -1). Encoder thread (or after Stop) only.
+  std::shared_ptr<const FilmImage> Displayed(const RenderedImage& image, double* ms);
   std::string StatsJson(const RenderStats& now, double passMs, uint32_t passSpp) const;
   Json ListMaps() const;
 
@@ -240,10 +243,8 @@ class LiveRender {
   mutable std::mutex frameMutex_;
   std::condition_variable frameReady_;
   std::shared_ptr<const PreviewFrame> frame_;
-  std::shared_ptr<const FilmImage> image_;       // the last full-resolution image
-  SamplerKind imageSampler_ = SamplerKind::kIndependent;  // what image_ was rendered with
-  std::shared_ptr<const FilmImage> shownImage_;  // the image of frame_ (maybe coarse)
-  SamplerKind shownSampler_ = SamplerKind::kIndependent;  // what shownImage_ was rendered with
+  RenderedImage image_;       // the last full-resolution image
+  RenderedImage shownImage_;  // the image of frame_ (maybe coarse)
   std::string progressJson_ = "{}";               // guarded by frameMutex_
   std::unique_ptr<Denoiser> denoiser_;  // used by the encoder thread only (and after Stop)
   bool denoiseAvailable_ = false;       // denoiser_ was made (read by every thread)

@@ -225,12 +225,12 @@ void LiveRender::Publish(const std::string& statsJson, bool coarse,
     stats["message"] = "reached the target of " + std::to_string(targetSpp_) + " spp";
   }
   std::lock_guard<std::mutex> lock(frameMutex_);
-  encoding_->image = std::move(image);
+  encoding_->image = RenderedImage{std::move(image),
+                                   options_.sampler.value_or(SamplerKind::kIndependent)};
   encoding_->generation = generation_;
   encoding_->spp = spp_;
   encoding_->kind = coarse ? "coarse" : "render";
   encoding_->statsJson = stats.dump();
-  encoding_->sampler = options_.sampler.value_or(SamplerKind::kIndependent);
   encoding_->editReceived = firstFrameOfGeneration_ ? editReceived_ : LoopClock::time_point();
   encoding_->waiting = true;
   firstFrameOfGeneration_ = false;
@@ -242,13 +242,12 @@ void LiveRender::Publish(const std::string& statsJson, bool coarse,
 
 void LiveRender::EncodeAgain() {
   std::lock_guard<std::mutex> lock(frameMutex_);
-  if (!frame_ || !shownImage_) return;
+  if (!frame_ || !shownImage_.film) return;
   encoding_->image = shownImage_;
   encoding_->generation = frame_->generation;
   encoding_->spp = frame_->spp;
   encoding_->kind = "display";
   encoding_->statsJson = frame_->statsJson;
-  encoding_->sampler = shownSampler_;
   encoding_->editReceived = LoopClock::time_point();
   encoding_->waiting = true;
   frameReady_.notify_all();
@@ -268,18 +267,22 @@ void LiveRender::EncodeLoop() {
     frame->generation = job.generation;
     frame->spp = job.spp;
     frame->kind = job.kind;
-    frame->width = job.image->width;
-    frame->height = job.image->height;
+    std::shared_ptr<const FilmImage> image = job.image.film;
+    frame->width = image->width;
+    frame->height = image->height;
     Json stats = Json::parse(job.statsJson);
-    bool full = job.image->width == width_ && job.image->height == height_;
+    bool full = image->width == width_ && image->height == height_;
     try {
       double denoiseMs = -1.0;
       // Not a frame a waiting edit makes stale: the edit's first frame must not queue behind
       // a denoise (about a second for 512^2 on 2 CPU cores).
-      if (full && !editsWaiting_) job.image = Displayed(job.image, job.sampler, &denoiseMs);
-      bool denoised = denoise_ && !job.image->denoised.empty();
-      frame->jpeg = EncodeJpeg(job.image->width, job.image->height,
-                               DisplayPixels(denoised ? job.image->denoised : job.image->rgb,
+      if (full && !editsWaiting_) {
+        image = Displayed(job.image, &denoiseMs);
+        job.image.film = image;  // shown and kept with its denoised layer
+      }
+      bool denoised = denoise_ && !image->denoised.empty();
+      frame->jpeg = EncodeJpeg(image->width, image->height,
+                               DisplayPixels(denoised ? image->denoised : image->rgb,
                                              Display()),
                                settings_.jpegQuality);
       if (denoiseMs >= 0.0) {  // a re-encode keeps its frame's
@@ -305,12 +308,8 @@ void LiveRender::EncodeLoop() {
     lock.lock();
     frame_ = std::move(frame);
     shownImage_ = job.image;
-    shownSampler_ = job.sampler;
     // A re-encode of the last full frame keeps the denoised layer it may have gained.
-    if (job.kind == "render" || (job.kind == "display" && full)) {
-      image_ = job.image;
-      imageSampler_ = job.sampler;
-    }
+    if (job.kind == "render" || (job.kind == "display" && full)) image_ = job.image;
     progressJson_ = frame_->statsJson;
     frameReady_.notify_all();
     lock.unlock();
@@ -321,16 +320,16 @@ void LiveRender::EncodeLoop() {
 
 // Coarse frames are never denoised (they carry no features); a denoiser that fails says so and
 // the frame shows the film.
-std::shared_ptr<const FilmImage> LiveRender::Displayed(std::shared_ptr<const FilmImage> image,
-                                                       SamplerKind sampler, double* ms) {
+std::shared_ptr<const FilmImage> LiveRender::Displayed(const RenderedImage& image, double* ms) {
   *ms = -1.0;
-  if (!denoise_ || !denoiser_ || !image->denoised.empty()) return image;
-  if (settings_.denoiseSettings) denoiser_->SetSettings(settings_.denoiseSettings(sampler));
-  if (std::string problem = DenoiseInputProblem(*image); !problem.empty()) {
+  const std::shared_ptr<const FilmImage>& film = image.film;
+  if (!denoise_ || !denoiser_ || !film->denoised.empty()) return film;
+  if (settings_.denoiseSettings) denoiser_->SetSettings(settings_.denoiseSettings(image.sampler));
+  if (std::string problem = DenoiseInputProblem(*film); !problem.empty()) {
     std::fprintf(stderr, "pathtracer: serve: not denoised: %s\n", problem.c_str());
-    return image;
+    return film;
   }
-  auto denoised = std::make_shared<FilmImage>(*image);
+  auto denoised = std::make_shared<FilmImage>(*film);
   denoiser_->Denoise(*denoised);
   *ms = denoiser_->LastMs();
   return denoised;
