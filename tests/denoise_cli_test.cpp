@@ -93,6 +93,18 @@ TEST(DenoiseCli, VarianceOptionReachesTheDenoiser) {
   EXPECT_NE(image(" --sampler sobol --denoise-variance sample", "sobol_s.pfm"), sobol);
 }
 
+// --denoise-emission reaches the denoiser: by default the seen emission (here the background)
+// is filtered with the rest for independent samples and kept out for Sobol samples.
+TEST(DenoiseCli, EmissionOptionReachesTheDenoiser) {
+  TinyDenoised image;
+  std::string byDefault = image("", "default.pfm");
+  EXPECT_EQ(image(" --denoise-emission filter", "filter.pfm"), byDefault);
+  EXPECT_NE(image(" --denoise-emission=keep", "keep.pfm"), byDefault);
+  std::string sobol = image(" --sampler sobol", "sobol.pfm");
+  EXPECT_EQ(image(" --sampler sobol --denoise-emission keep", "sobol_k.pfm"), sobol);
+  EXPECT_NE(image(" --sampler sobol --denoise-emission filter", "sobol_f.pfm"), sobol);
+}
+
 TEST(DenoiseCli, ResumingAFilmWithoutHalvesIsRefused) {
   std::string dir = TempDir();
   std::string scene = WriteText(dir + "/tiny.json", kTinyScene);

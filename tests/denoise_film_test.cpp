@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "src/distributed/chunked_render.h"
+#include "src/denoise/denoiser.h"
 #include "src/distributed/film_merge.h"
 #include "src/integrator/render_session.h"
 #include "tests/render_test_util.h"
@@ -78,9 +79,17 @@ TEST(HalfFilms, ChunksAndMergesKeepTheHalves) {
   RenderResult chunked = RenderChunked(MakeCpuSession, scene, Halves(1), {}, 3);
   EXPECT_EQ(chunked.image.evenSamples, plain.image.evenSamples);
   ASSERT_EQ(chunked.image.evenRgb.size(), plain.image.evenRgb.size());
-  for (size_t i = 0; i < plain.image.evenRgb.size(); ++i)
-    EXPECT_NEAR(chunked.image.evenRgb[i], plain.image.evenRgb[i],
-                1e-5f * (1.0f + plain.image.evenRgb[i])) << i;
+  // The seen emission's means and the residual's variance too (Chan's merge of its Welford
+  // statistics).
+  for (auto plane : {&FilmImage::evenRgb, &FilmImage::emission, &FilmImage::evenEmission,
+                     &FilmImage::residualVariance}) {
+    const std::vector<float>& want = plain.image.*plane;
+    const std::vector<float>& got = chunked.image.*plane;
+    ASSERT_EQ(got.size(), want.size());
+    ASSERT_EQ(want.size(), plain.image.rgb.size());
+    for (size_t i = 0; i < want.size(); ++i)
+      EXPECT_NEAR(got[i], want[i], 1e-5f * (1.0f + want[i])) << i;
+  }
   FilmState a = EmptyFilm(4, 1, true, true), b = EmptyFilm(4, 1, true, true);
   a.count[1] = b.count[1] = 3;
   a.evenCount[1] = 2;
@@ -92,6 +101,34 @@ TEST(HalfFilms, ChunksAndMergesKeepTheHalves) {
   EXPECT_EQ(a.evenSum[1], vec3(1.5f));
   FilmState noHalves = EmptyFilm(4, 1, true, false);
   EXPECT_THROW(MergeFilmInto(noHalves, b), std::invalid_argument);
+}
+
+// With no bounce (max depth 0) all the film holds is the emission the camera rays saw: its
+// means are the image's, the residual has no variance, though the light's edge pixels do
+// (some samples see the light, some not), and the denoiser, which filters only the
+// residual, gives the raw image back bit for bit.
+TEST(HalfFilms, WithoutBouncesAllIsSeenEmissionAndTheDenoiserKeepsIt) {
+  SceneDesc d = LoadScene(SourcePath("scenes/cornell_box.json"));
+  d.render.width = 24;
+  d.render.height = 20;
+  d.render.spp = 6;
+  d.render.maxDepth = 0;
+  FilmImage img = RenderOnCpu(BuildScene(std::move(d)), Halves()).image;
+  ASSERT_EQ(img.emission.size(), img.rgb.size());
+  EXPECT_TRUE(BitIdentical(img.emission, img.rgb));
+  EXPECT_TRUE(BitIdentical(img.evenEmission, img.evenRgb));
+  float lit = 0.0f, edgeVariance = 0.0f;
+  for (size_t i = 0; i < img.rgb.size(); ++i) {
+    lit = std::max(lit, img.rgb[i]);
+    edgeVariance = std::max(edgeVariance, img.variance[i]);
+    EXPECT_EQ(img.residualVariance[i], 0.0f) << i;
+  }
+  EXPECT_GT(lit, 1.0f);           // the camera sees the light
+  EXPECT_GT(edgeVariance, 0.1f);  // and its edge is noisy
+  DenoiseSettings keep;
+  keep.keepSeenEmission = true;
+  MakeCpuDenoiser(2, keep)->Denoise(img);
+  EXPECT_TRUE(BitIdentical(img.denoised, img.rgb));
 }
 
 // A film kept without halves cannot continue as one with them (a resumed --denoise render).

@@ -73,11 +73,12 @@ TEST(DenoiseServe, TheToggleIsPushedAndSaved) {
 }
 
 // The variance rule follows the page's sampler flag as the CLI's default does (sample variance
-// for independent samples, calibrated for Sobol): each frame names the one it was denoised with.
+// for independent samples, calibrated for Sobol), and so does the seen emission's (filtered or
+// kept out): each frame names the ones it was denoised with.
 TEST(DenoiseServe, TheVarianceRuleFollowsTheSamplerFlag) {
   std::unique_ptr<LiveRender> live = LiveBox(true, [](SamplerKind sampler) {
     DenoiseSettings s;
-    s.calibrateVariance = sampler != SamplerKind::kIndependent;
+    s.calibrateVariance = s.keepSeenEmission = sampler != SamplerKind::kIndependent;
     return s;
   });
   auto frame = live->WaitForFrame(0, std::chrono::seconds(20));
@@ -97,11 +98,13 @@ TEST(DenoiseServe, TheVarianceRuleFollowsTheSamplerFlag) {
   Json before = denoisedFrame(frame->generation);
   ASSERT_TRUE(before.is_object());
   EXPECT_EQ(before["denoise_variance"], "sample");
+  EXPECT_EQ(before["denoise_emission"], "filter");
   uint64_t generation = live->EditOptions(Json{{"sampler", "sobol"}}).generation;
   Json after = denoisedFrame(generation);
   ASSERT_TRUE(after.is_object());
   EXPECT_EQ(after["sampler"], "sobol");
   EXPECT_EQ(after["denoise_variance"], "calibrated");
+  EXPECT_EQ(after["denoise_emission"], "keep");
   live->Stop();
 }
 

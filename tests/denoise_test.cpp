@@ -58,6 +58,43 @@ TEST(Denoise, NoiseFreeImageChangesLessThan1e4) {
   EXPECT_LT(MaxAbsDifference(out, img.rgb), 1e-4f);
 }
 
+// The emission the camera saw (FilmImage::emission) stays out of the filter: an emissive
+// texture of random texels in [0, 4] (in no feature: the albedo is even) over a noisy constant
+// reflection (0.3, sigma 1). Filtering the whole image, a pixel finds few neighbours of its
+// colour; filtering the reflection alone (DenoiseSettings::keepSeenEmission), it averages the
+// window and adds its texel back.
+TEST(Denoise, SeenEmissionStaysOutOfTheFilter) {
+  constexpr int kSize = 64;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 4.0f);
+  std::vector<float> texel(size_t(kSize) * kSize);
+  for (float& t : texel) t = u(rng);
+  FilmImage whole = SyntheticImage(kSize, kSize, 16, [&](int x, int y) {
+    SyntheticPixel p;
+    p.color = vec3(0.3f + texel[size_t(y) * kSize + size_t(x)]);
+    p.sigma = 1.0f;
+    return p;
+  }, 5);
+  FilmImage split = whole;
+  split.emission.resize(whole.rgb.size());
+  for (size_t i = 0; i < split.emission.size(); ++i) split.emission[i] = texel[i / 3];
+  split.evenEmission = split.emission;
+  split.residualVariance = whole.variance;
+  auto error = [&](const std::vector<float>& image) {
+    double e = 0.0;
+    for (size_t i = 0; i < image.size(); ++i) e += std::pow(image[i] - 0.3 - texel[i / 3], 2.0);
+    return e;
+  };
+  DenoiseSettings keep;
+  keep.keepSeenEmission = true;
+  std::vector<float> wholeOut = DenoiseOnCpu(whole, 2, keep), splitOut = DenoiseOnCpu(split, 2, keep);
+  double raw = error(whole.rgb), wholeError = error(wholeOut), splitError = error(splitOut);
+  EXPECT_LT(splitError, raw / 10.0) << "raw " << raw;
+  EXPECT_LT(splitError, wholeError / 3.0) << "filtering the whole image " << wholeError;
+  // Without the setting the planes are not read: the whole image is filtered.
+  EXPECT_TRUE(BitIdentical(DenoiseOnCpu(split), wholeOut));
+}
+
 // A step in albedo (0.4 | 0.6) under even light, with noise too strong for the colour alone
 // to see it (without the albedo feature the step keeps 17% of its contrast): the albedo
 // feature keeps the neighbours across the edge out, so the step between the two columns at
@@ -291,6 +328,10 @@ TEST(Denoise, RefusesAnImageWithoutHalvesOrFeaturesAndBadSettings) {
   FilmImage noFeatures = img;
   noFeatures.normal.clear();
   EXPECT_THROW(DenoiseOnCpu(noFeatures), std::invalid_argument);
+  FilmImage partEmission = img;  // the emission planes come all three or none
+  partEmission.emission = partEmission.rgb;
+  EXPECT_NE(DenoiseInputProblem(partEmission).find("emission"), std::string::npos);
+  EXPECT_THROW(DenoiseOnCpu(partEmission), std::invalid_argument);
   DenoiseSettings bad;
   bad.radius = 0;
   EXPECT_THROW(DenoiseOnCpu(img, 2, bad), std::invalid_argument);

@@ -36,6 +36,8 @@ FilmState RandomFilm(uint32_t w, uint32_t h, bool doubleFilm, bool features) {
       f.depthSum.push_back(float(u(rng)));
       f.evenSum.push_back(vec3(float(u(rng)), float(u(rng)), float(u(rng))));  // --denoise's
       f.evenCount.push_back(f.count.back() / 2 + 1);
+      for (std::vector<vec3>* v : {&f.residualMean, &f.residualM2, &f.evenEmissionSum})
+        v->push_back(vec3(float(u(rng)), float(u(rng)), float(u(rng))));
     }
   }
   return f;
@@ -64,6 +66,9 @@ TEST(FilmStateExr, TheStateComesBackBitForBit) {
       EXPECT_TRUE(test::BitIdentical(back.film.depthSum, film.depthSum));
       EXPECT_TRUE(test::BitIdentical(back.film.evenSum, film.evenSum));
       EXPECT_EQ(back.film.evenCount, film.evenCount);
+      EXPECT_TRUE(test::BitIdentical(back.film.residualMean, film.residualMean));
+      EXPECT_TRUE(test::BitIdentical(back.film.residualM2, film.residualM2));
+      EXPECT_TRUE(test::BitIdentical(back.film.evenEmissionSum, film.evenEmissionSum));
       // The image a viewer sees is there too.
       int w = 0, h = 0;
       std::vector<float> rgb;

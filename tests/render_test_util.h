@@ -37,14 +37,16 @@ inline bool SameImage(const FilmImage& a, const FilmImage& b) {
          std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
 }
 
-// The same film bit for bit: size, statistics, counts and feature channels.
+// The same film bit for bit: size, statistics, counts, feature and half-film channels.
 inline bool SameFilm(const FilmState& a, const FilmState& b) {
   return a.width == b.width && a.height == b.height && BitIdentical(a.mean, b.mean) &&
          BitIdentical(a.m2, b.m2) && BitIdentical(a.lumMean, b.lumMean) &&
          BitIdentical(a.lumM2, b.lumM2) && BitIdentical(a.count, b.count) &&
          BitIdentical(a.albedoSum, b.albedoSum) && BitIdentical(a.normalSum, b.normalSum) &&
          BitIdentical(a.depthSum, b.depthSum) && BitIdentical(a.evenSum, b.evenSum) &&
-         BitIdentical(a.evenCount, b.evenCount);
+         BitIdentical(a.evenCount, b.evenCount) && BitIdentical(a.residualMean, b.residualMean) &&
+         BitIdentical(a.residualM2, b.residualM2) &&
+         BitIdentical(a.evenEmissionSum, b.evenEmissionSum);
 }
 
 inline RenderResult RenderOnCpu(const Scene& scene, RenderOptions options = {}) {

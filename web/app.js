@@ -202,7 +202,9 @@ function showProgress(s) {
   }
   // The denoiser's time on the frame shown; "off" when the frame is not denoised (coarse ones never are).
   $('s-denoise').textContent = s.denoise_ms === undefined ? 'off' :
-      `${s.denoise_ms.toFixed(1)}` + (s.denoise_variance ? ` (${s.denoise_variance} variance)` : '');
+      `${s.denoise_ms.toFixed(1)}` + (s.denoise_variance ? ` (${s.denoise_variance} variance` +
+      (s.denoise_emission ? `, emission ${s.denoise_emission === 'keep' ? 'kept' : 'filtered'}` : '') +
+      ')' : '');
   showStages(s.stage_ms);
 }
 

@@ -259,6 +259,10 @@ const std::vector<std::pair<std::string, Handler>>& ChoiceOptions() {
        [](CliOptions& o, ValueSource& s) {
          o.denoiseCalibrate = ParseChoice<bool>(s, {{"calibrated", true}, {"sample", false}});
        }},
+      {"--denoise-emission",
+       [](CliOptions& o, ValueSource& s) {
+         o.denoiseKeepEmission = ParseChoice<bool>(s, {{"keep", true}, {"filter", false}});
+       }},
       {"--compact",
        [](CliOptions& o, ValueSource& s) {
          o.compact = ParseChoice<Toggle>(

@@ -93,6 +93,7 @@ struct CliOptions {
   int denoiseRadius = 5;        // --denoise-radius N: the search window, (2N + 1)^2 neighbours
   // --denoise-variance calibrated|sample; empty: calibrated for Sobol samples only
   std::optional<bool> denoiseCalibrate;
+  std::optional<bool> denoiseKeepEmission;  // --denoise-emission keep|filter
 
   bool quiet = false;
   bool help = false;

@@ -29,6 +29,9 @@ Outputs
                            scaled to the two half films' difference (what --sampler sobol
                            needs, its default), or the sample variance as it is (the
                            default for independent samples)
+  --denoise-emission keep|filter  the emission camera rays see directly: kept out of the
+                           filter and added back (--sampler sobol's default), or filtered
+                           with the rest (the default for independent samples)
 
 Image and sampling
   --spp N                  samples per pixel

@@ -16,6 +16,9 @@ DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler) {
   // better at 16 spp; for Sobol samples it overstates the noise and blurs detail.
   settings.calibrateVariance =
       cli.denoiseCalibrate.value_or(sampler != SamplerKind::kIndependent);
+  // Measured too: keeping the seen emission out helps stratified samples only.
+  settings.keepSeenEmission =
+      cli.denoiseKeepEmission.value_or(sampler != SamplerKind::kIndependent);
   return settings;
 }
 

@@ -40,7 +40,7 @@ class DenoiseRunner {
     if (problem.empty()) problem = DenoiseSettingsProblem(settings);
     if (!problem.empty()) throw std::invalid_argument("denoise: " + problem);
     Layout(uint32_t(image.width), uint32_t(image.height), settings);
-    Upload(image);
+    Upload(image, settings.keepSeenEmission);
     backend_.Synchronize();
     double before = backend_.Times().accumulate;
     Fill(settings);
@@ -125,11 +125,22 @@ class DenoiseRunner {
 
   // The film's arrays where the passes read them: on the CPU in place (a copy would fault in
   // and fill 116 MB more at 1080p), on a GPU copied to the device.
-  void Upload(const FilmImage& image) {
+  // keepEmission: the passes filter the residual (settings.keepSeenEmission, where the image
+  // has the emission planes).
+  void Upload(const FilmImage& image, bool keepEmission) {
+    const bool residual = keepEmission && !image.emission.empty();
     if constexpr (Backend::kHostMemory) {
-      input_ = DenoiseInput{image.rgb.data(),         image.variance.data(), image.samples.data(),
-                            image.evenRgb.data(),     image.evenSamples.data(),
-                            image.albedo.data(),      image.normal.data(),   image.depth.data()};
+      input_ = DenoiseInput{image.rgb.data(),
+                            image.variance.data(),
+                            image.samples.data(),
+                            image.evenRgb.data(),
+                            image.evenSamples.data(),
+                            image.albedo.data(),
+                            image.normal.data(),
+                            image.depth.data(),
+                            residual ? image.emission.data() : nullptr,
+                            residual ? image.evenEmission.data() : nullptr,
+                            residual ? image.residualVariance.data() : nullptr};
     } else {
       rgb_.Upload(image.rgb);
       variance_.Upload(image.variance);
@@ -139,8 +150,22 @@ class DenoiseRunner {
       albedo_.Upload(image.albedo);
       normal_.Upload(image.normal);
       depth_.Upload(image.depth);
-      input_ = DenoiseInput{rgb_.Data(),     variance_.Data(), samples_.Data(), evenRgb_.Data(),
-                            evenSamples_.Data(), albedo_.Data(), normal_.Data(),  depth_.Data()};
+      if (residual) {
+        emission_.Upload(image.emission);
+        evenEmission_.Upload(image.evenEmission);
+        residualVariance_.Upload(image.residualVariance);
+      }
+      input_ = DenoiseInput{rgb_.Data(),
+                            variance_.Data(),
+                            samples_.Data(),
+                            evenRgb_.Data(),
+                            evenSamples_.Data(),
+                            albedo_.Data(),
+                            normal_.Data(),
+                            depth_.Data(),
+                            residual ? emission_.Data() : nullptr,
+                            residual ? evenEmission_.Data() : nullptr,
+                            residual ? residualVariance_.Data() : nullptr};
     }
   }
 
@@ -294,15 +319,25 @@ class DenoiseRunner {
           DenoiseSelectRow(d, count, radius, out, y, acc.data());
         }
       });
+      AddEmission(out);
     } else {
       out_.Resize(size_t(3) * d.width * d.height);
       float* out = out_.Data();
       backend_.ParallelFor(Stage::kAccumulate, d.width * d.height, [=] PT_HD(uint32_t i) {
         DenoiseFinishPixel(d, count, radius, out, i);
       });
+      AddEmission(out);
       backend_.Synchronize();
       out_.Download(image.denoised);
     }
+  }
+
+  // The seen emission back onto the filtered residual (none without FilmImage::emission).
+  void AddEmission(float* out) {
+    const float* emission = input_.emission;
+    if (!emission) return;
+    backend_.ParallelFor(Stage::kAccumulate, 3 * planes_.width * planes_.height,
+                         [=] PT_HD(uint32_t i) { DenoiseAddEmissionPixel(out, emission, i); });
   }
 
  private:
@@ -316,7 +351,8 @@ class DenoiseRunner {
   DenoiseBandwidths bandwidths_{};
   DenoiseInput input_{};
   Buffer<float> store_, out_;
-  Buffer<float> rgb_, variance_, evenRgb_, albedo_, normal_, depth_;
+  Buffer<float> rgb_, variance_, evenRgb_, albedo_, normal_, depth_, emission_, evenEmission_,
+      residualVariance_;
   Buffer<uint32_t> samples_, evenSamples_;
 };
 

@@ -30,6 +30,12 @@ struct DenoiseSettings {
   // which stratified samples (--sampler sobol) need: their sample variance overstates their
   // noise. The app turns it on for Sobol samples (src/app/denoise_step.cpp).
   bool calibrateVariance = false;
+  // The emission camera rays see directly (FilmImage::emission) kept out of the filter and
+  // added back: its only noise is the pixel footprint's, little under stratified samples,
+  // and an emissive texture's detail is in no feature. Under independent samples that
+  // footprint noise is large and filtering it with the rest measured better, so the app
+  // turns it on for Sobol samples (src/app/denoise_step.cpp; docs/denoise.md).
+  bool keepSeenEmission = false;
 };
 
 // The settings a denoiser accepts; returns an empty string, or what is wrong.

@@ -11,6 +11,12 @@ std::string DenoiseInputProblem(const FilmImage& image) {
     return "the image lacks its feature buffers (albedo, normal, depth)";
   if (image.evenRgb.size() != 3 * n || image.evenSamples.size() != n)
     return "the image lacks its half buffers (render with RenderOptions::halfFilms)";
+  const size_t residual[] = {image.emission.size(), image.evenEmission.size(),
+                             image.residualVariance.size()};
+  for (size_t size : residual) {
+    if (size != residual[0] || (size != 0 && size != 3 * n))
+      return "the image's emission and residual variance planes do not match its size";
+  }
   return "";
 }
 

@@ -67,6 +67,11 @@ struct DenoiseInput {
   const float* albedo;
   const float* normal;
   const float* depth;
+  // The seen emission's means and the residual's variance (FilmImage::emission), or null: the
+  // passes filter the residual, and DenoiseAddEmissionPixel adds the emission back.
+  const float* emission;
+  const float* evenEmission;
+  const float* residualVariance;
 };
 
 // e^x for x <= 0 (larger x are not asked for), relative error about 2e-7: 2^(x log2 e) as a
@@ -127,12 +132,19 @@ PT_HDI void DenoiseFillPixel(const DenoisePlanes& d, const DenoiseInput& in, uin
   size_t s = size_t(y) * d.width + size_t(x);
   uint32_t n = in.samples[s], na = in.evenSamples[s] < n ? in.evenSamples[s] : n, nb = n - na;
   constexpr float kLimit = kDenoiseValueLimit;
+  const bool residual = in.emission != nullptr;
   for (int c = 0; c < 3; ++c) {
     float mean = Sanitized(in.rgb[3 * s + c], kLimit);
     float a = na > 0 ? Sanitized(in.evenRgb[3 * s + c], kLimit) : mean;
+    if (residual) {  // the halves less the emission their camera rays saw
+      float e = Sanitized(in.emission[3 * s + c], kLimit);
+      a = Sanitized(a - (na > 0 ? Sanitized(in.evenEmission[3 * s + c], kLimit) : e), kLimit);
+      mean = Sanitized(mean - e, kLimit);
+    }
     // The odd samples' mean from the whole mean and the even one (float rounding aside).
     float b = nb > 0 && na > 0 ? (float(n) * mean - float(na) * a) / float(nb) : a;
-    float var = DenoiseMax(Sanitized(in.variance[3 * s + c], kDenoiseVarianceLimit), 0.0f);
+    const float* variance = residual ? in.residualVariance : in.variance;
+    float var = DenoiseMax(Sanitized(variance[3 * s + c], kDenoiseVarianceLimit), 0.0f);
     d.half[0][c][i] = a;
     d.half[1][c][i] = Sanitized(b, kLimit);
     d.halfVar[0][c][i] = var / float(na > 1 ? na : 1);
@@ -404,6 +416,16 @@ PT_HDI void DenoiseFinishPixel(const DenoisePlanes& d, int count, int radius, fl
     }
   }
   DenoiseChoosePixel(d, count, e, p, out + 3 * size_t(i));
+}
+
+}  // namespace pt
+
+namespace pt {
+
+// Pass 8, per float of the output (with FilmImage::emission only): the emission the camera
+// rays saw added back to the filtered residual, as the film holds it.
+PT_HDI void DenoiseAddEmissionPixel(float* out, const float* emission, uint32_t i) {
+  out[i] += Sanitized(emission[i], kDenoiseValueLimit);
 }
 
 }  // namespace pt

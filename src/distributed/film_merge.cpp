@@ -16,7 +16,9 @@ void CheckShape(const FilmState& f, const char* which) {
             f.lumM2.size() == n && f.count.size() == n;
   if (HasFeatures(f))
     ok = ok && f.albedoSum.size() == n && f.normalSum.size() == n && f.depthSum.size() == n;
-  if (HasHalves(f)) ok = ok && f.evenSum.size() == n && f.evenCount.size() == n;
+  if (HasHalves(f))
+    ok = ok && f.evenSum.size() == n && f.evenCount.size() == n && f.residualMean.size() == n &&
+         f.residualM2.size() == n && f.evenEmissionSum.size() == n;
   if (!ok) throw std::invalid_argument(std::string("film merge: the ") + which +
                                        " film's arrays do not match its size");
 }
@@ -33,6 +35,7 @@ void MergePixel(FilmState& a, const FilmState& b, size_t i) {
   if (HasHalves(a)) {
     a.evenSum[i] += b.evenSum[i];
     a.evenCount[i] += b.evenCount[i];
+    a.evenEmissionSum[i] += b.evenEmissionSum[i];
   }
   a.count[i] = na + nb;
   if (na == 0) {
@@ -40,6 +43,10 @@ void MergePixel(FilmState& a, const FilmState& b, size_t i) {
     a.m2[i] = b.m2[i];
     a.lumMean[i] = b.lumMean[i];
     a.lumM2[i] = b.lumM2[i];
+    if (HasHalves(a)) {
+      a.residualMean[i] = b.residualMean[i];
+      a.residualM2[i] = b.residualM2[i];
+    }
     return;
   }
   double n = double(na) + double(nb);
@@ -51,6 +58,12 @@ void MergePixel(FilmState& a, const FilmState& b, size_t i) {
   double dl = double(b.lumMean[i]) - double(a.lumMean[i]);
   a.lumMean[i] = float(double(a.lumMean[i]) + dl * fb);
   a.lumM2[i] = float(double(a.lumM2[i]) + double(b.lumM2[i]) + dl * dl * cross);
+  if (HasHalves(a)) {
+    glm::dvec3 dr = glm::dvec3(b.residualMean[i]) - glm::dvec3(a.residualMean[i]);
+    a.residualMean[i] = vec3(glm::dvec3(a.residualMean[i]) + dr * fb);
+    a.residualM2[i] = vec3(glm::dvec3(a.residualM2[i]) + glm::dvec3(b.residualM2[i]) +
+                           dr * dr * cross);
+  }
 }
 
 }  // namespace
@@ -88,6 +101,8 @@ FilmState EmptyFilm(uint32_t width, uint32_t height, bool features, bool halves)
   if (halves) {
     f.evenSum.assign(n, vec3(0.0f));
     f.evenCount.assign(n, 0u);
+    for (std::vector<vec3>* v : {&f.residualMean, &f.residualM2, &f.evenEmissionSum})
+      v->assign(n, vec3(0.0f));
   }
   return f;
 }

@@ -29,6 +29,8 @@ std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool halves, bool resi
     f.depthSum.resize(features ? n : 0);
     f.evenSum.resize(halves ? n : 0);
     f.evenCount.resize(halves ? n : 0);
+    for (std::vector<vec3>* v : {&f.residualMean, &f.residualM2, &f.evenEmissionSum})
+      v->resize(halves ? n : 0);
   }
   int n1 = int(n), n3 = int(3 * n);
   std::vector<ArrayRef> arrays = {{f.mean.data(), n3, MPI_DOUBLE},
@@ -44,6 +46,8 @@ std::vector<ArrayRef> Arrays(FilmState& f, bool features, bool halves, bool resi
   if (halves) {
     arrays.push_back({f.evenSum.data(), n3, MPI_FLOAT});
     arrays.push_back({f.evenCount.data(), n1, MPI_UINT32_T});
+    for (std::vector<vec3>* v : {&f.residualMean, &f.residualM2, &f.evenEmissionSum})
+      arrays.push_back({v->data(), n3, MPI_FLOAT});
   }
   return arrays;
 }

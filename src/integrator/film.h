@@ -20,6 +20,12 @@ struct FilmView {
   float* depthSum;
   vec3* evenSum;            // the even-indexed samples' sum and count: one of the two half
   uint32_t* evenCount;      // films a denoiser compares (null unless requested)
+  // With the half films: Welford statistics of each sample less the emission its camera ray
+  // saw (PathState::featureEmission), and that emission's even-sample sum. The denoiser
+  // filters this residual and adds the emission back (null unless half films are kept).
+  vec3* residualMean;
+  vec3* residualM2;
+  vec3* evenEmissionSum;
 };
 
 // A pixel with no samples: every channel the film keeps set to zero (ResetFilm's stage body).
@@ -33,6 +39,7 @@ PT_HDI void ClearFilmPixel(const FilmView& f, uint32_t i) {
   if (f.evenSum) {
     f.evenSum[i] = vec3(0.0f);
     f.evenCount[i] = 0u;
+    f.residualMean[i] = f.residualM2[i] = f.evenEmissionSum[i] = vec3(0.0f);
   }
 }
 
@@ -45,12 +52,16 @@ struct ImageView {
   float* normal;
   float* depth;
   float* evenRgb;
+  float* emission;          // with evenRgb: the seen emission's means and the residual's
+  float* evenEmission;      // sample variance (FilmView::residualMean)
+  float* residualVariance;
 };
 
 // A pixel of the film as an image (ResolveFilm's stage body, and ResolveFilmImage's for a
 // saved film, whose float statistics were widened to doubles: widening is exact, so a film
 // resolved on its backend and the same film saved and resolved on the host give the same
-// floats): mean, unbiased sample variance, feature and even-half means (0 without samples).
+// floats): mean, unbiased sample variance, feature and even-half means (0 without samples),
+// and with the half films the seen emission's means and the residual's variance.
 PT_HDI void ResolveFilmPixel(const FilmView& f, const ImageView& out, uint32_t i) {
   const double k = double(f.sampleCount[i]);
   const uint32_t even = f.evenSum && k != 0.0 ? f.evenCount[i] : 0u;
@@ -64,8 +75,15 @@ PT_HDI void ResolveFilmPixel(const FilmView& f, const ImageView& out, uint32_t i
       out.albedo[3 * i + c] = k != 0.0 ? float(double(f.albedoSum[i][c]) / k) : 0.0f;
       out.normal[3 * i + c] = k != 0.0 ? float(double(f.normalSum[i][c]) / k) : 0.0f;
     }
-    if (out.evenRgb)
+    if (out.evenRgb) {
       out.evenRgb[3 * i + c] = even > 0 ? float(double(f.evenSum[i][c]) / double(even)) : 0.0f;
+      // The emission: the whole mean less the residual's (0 without samples).
+      out.emission[3 * i + c] = k != 0.0 ? float(mean - double(f.residualMean[i][c])) : 0.0f;
+      out.evenEmission[3 * i + c] =
+          even > 0 ? float(double(f.evenEmissionSum[i][c]) / double(even)) : 0.0f;
+      double rv = k > 1.0 ? double(f.residualM2[i][c]) / (k - 1.0) : 0.0;
+      out.residualVariance[3 * i + c] = float(0.0 < rv ? rv : 0.0);
+    }
   }
   if (out.depth) out.depth[i] = k != 0.0 ? float(double(f.depthSum[i]) / k) : 0.0f;
 }
@@ -91,6 +109,9 @@ PT_HDI void CopyFilmPixel(const FilmView& to, const FilmView& from, uint32_t i) 
   if (from.evenSum) {
     to.evenSum[i] = from.evenSum[i];
     to.evenCount[i] = from.evenCount[i];
+    to.residualMean[i] = from.residualMean[i];
+    to.residualM2[i] = from.residualM2[i];
+    to.evenEmissionSum[i] = from.evenEmissionSum[i];
   }
 }
 

@@ -34,6 +34,8 @@ class FilmBuffers {
     depth_.Resize(features ? pixels : 0);
     evenSum_.Resize(halves ? pixels : 0);
     evenCount_.Resize(halves ? pixels : 0);
+    for (Buffer<vec3>* b : {&residualMean_, &residualM2_, &evenEmission_})
+      b->Resize(halves ? pixels : 0);
     lumMean_.Resize(pixels);
     lumM2_.Resize(pixels);
     count_.Resize(pixels);
@@ -47,9 +49,11 @@ class FilmBuffers {
 
   size_t Pixels() const { return count_.Size(); }
   FilmView View() {
-    return FilmView{mean_.Data(),    m2_.Data(),     meanDouble_.Data(), m2Double_.Data(),
-                    lumMean_.Data(), lumM2_.Data(),  count_.Data(),      albedo_.Data(),
-                    normal_.Data(),  depth_.Data(),  evenSum_.Data(),    evenCount_.Data()};
+    return FilmView{mean_.Data(),         m2_.Data(),          meanDouble_.Data(),
+                    m2Double_.Data(),     lumMean_.Data(),     lumM2_.Data(),
+                    count_.Data(),        albedo_.Data(),      normal_.Data(),
+                    depth_.Data(),        evenSum_.Data(),     evenCount_.Data(),
+                    residualMean_.Data(), residualM2_.Data(),  evenEmission_.Data()};
   }
   const Buffer<uint32_t>& Counts() const { return count_; }
   const Buffer<uint32_t>& EvenCounts() const { return evenCount_; }
@@ -84,6 +88,9 @@ class FilmBuffers {
     depth_.Download(f.depthSum);
     evenSum_.Download(f.evenSum);  // empty without half films
     evenCount_.Download(f.evenCount);
+    residualMean_.Download(f.residualMean);
+    residualM2_.Download(f.residualM2);
+    evenEmission_.Download(f.evenEmissionSum);
   }
 
   // Throws std::invalid_argument when the film's size or channels do not match.
@@ -96,7 +103,9 @@ class FilmBuffers {
     if (features && (f.albedoSum.size() != n || f.normalSum.size() != n || f.depthSum.size() != n))
       throw std::invalid_argument("film state lacks the feature channels this render keeps");
     bool halves = evenSum_.Size() != 0;
-    if (halves && (f.evenSum.size() != n || f.evenCount.size() != n))
+    if (halves && (f.evenSum.size() != n || f.evenCount.size() != n ||
+                   f.residualMean.size() != n || f.residualM2.size() != n ||
+                   f.evenEmissionSum.size() != n))
       throw std::invalid_argument("film state lacks the half-film channels this render keeps "
                                   "(--denoise)");
     if (meanDouble_.Size() != 0) {
@@ -117,6 +126,9 @@ class FilmBuffers {
     if (halves) {
       evenSum_.Upload(f.evenSum);
       evenCount_.Upload(f.evenCount);
+      residualMean_.Upload(f.residualMean);
+      residualM2_.Upload(f.residualM2);
+      evenEmission_.Upload(f.evenEmissionSum);
     }
   }
 
@@ -132,7 +144,7 @@ class FilmBuffers {
     }
   }
 
-  Buffer<vec3> mean_, m2_, albedo_, normal_, evenSum_;
+  Buffer<vec3> mean_, m2_, albedo_, normal_, evenSum_, residualMean_, residualM2_, evenEmission_;
   Buffer<glm::dvec3> meanDouble_, m2Double_;
   Buffer<float> lumMean_, lumM2_, depth_;
   Buffer<uint32_t> count_, evenCount_;
@@ -156,9 +168,11 @@ class ResolvedImage {
     for (Buffer<float>* b : {&rgb_, &variance_}) b->Resize(3 * n);
     for (Buffer<float>* b : {&albedo_, &normal_}) b->Resize(features ? 3 * n : 0);
     depth_.Resize(features ? n : 0);
-    evenRgb_.Resize(halves ? 3 * n : 0);
-    const ImageView out{rgb_.Data(),    variance_.Data(), features ? albedo_.Data() : nullptr,
-                        normal_.Data(), depth_.Data(),    halves ? evenRgb_.Data() : nullptr};
+    for (Buffer<float>* b : {&evenRgb_, &emission_, &evenEmission_, &residualVariance_})
+      b->Resize(halves ? 3 * n : 0);
+    const ImageView out{rgb_.Data(),      variance_.Data(),    features ? albedo_.Data() : nullptr,
+                        normal_.Data(),   depth_.Data(),       halves ? evenRgb_.Data() : nullptr,
+                        emission_.Data(), evenEmission_.Data(), residualVariance_.Data()};
     backend.ParallelFor(Stage::kAccumulate, uint32_t(n),
                         [=] PT_HD(uint32_t i) { ResolveFilmPixel(film, out, i); });
     backend.Synchronize();
@@ -176,12 +190,16 @@ class ResolvedImage {
     if (halves) {
       evenRgb_.Download(img.evenRgb);
       arrays.EvenCounts().Download(img.evenSamples);
+      emission_.Download(img.emission);
+      evenEmission_.Download(img.evenEmission);
+      residualVariance_.Download(img.residualVariance);
     }
     return img;
   }
 
  private:
-  Buffer<float> rgb_, variance_, albedo_, normal_, depth_, evenRgb_;
+  Buffer<float> rgb_, variance_, albedo_, normal_, depth_, evenRgb_, emission_, evenEmission_,
+      residualVariance_;
 };
 
 }  // namespace pt

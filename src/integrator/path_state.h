@@ -55,6 +55,9 @@ struct PathState {
   vec3* featureAlbedo;
   vec3* featureNormal;
   float* featureDepth;
+  // What the path gathered up to its feature vertex (the emission the camera sees there,
+  // directly or through delta bounces): the denoiser keeps it out of what it filters.
+  vec3* featureEmission;
   // The hit's instance; allocated, written and read only in scenes with instances.
   uint32_t* hitInstance;
   // The receiver normal of the vertex the current ray left (PackReceiver), for the light BVH's
@@ -75,7 +78,7 @@ PT_HDI HitRecord LoadHit(PathState ps, uint32_t id, bool instanced) {
 }
 
 // Bytes per path of the optional feature buffers.
-constexpr size_t kFeatureBytes = 2 * sizeof(vec3) + sizeof(float);
+constexpr size_t kFeatureBytes = 3 * sizeof(vec3) + sizeof(float);
 
 // Bytes per path of the arrays above plus the queue and sort key (one uint32 each), and of
 // hitInstance (scenes with instances only).

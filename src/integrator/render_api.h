@@ -81,6 +81,10 @@ struct FilmImage {
   // the two half films of a dual-buffer denoiser.
   std::vector<float> evenRgb;
   std::vector<uint32_t> evenSamples;
+  // With the half films (may be empty, meaning none): the means of the emission the camera
+  // saw (FilmView::residualMean), over all and over the even samples, and the sample variance
+  // of the rest; the denoiser filters the rest and adds the emission back.
+  std::vector<float> emission, evenEmission, residualVariance;
   std::vector<float> denoised;  // 3 floats per pixel, when denoised (src/denoise/)
 };
 
@@ -97,6 +101,9 @@ struct FilmState {
   std::vector<float> depthSum;
   std::vector<vec3> evenSum;          // the even-indexed samples (empty unless halfFilms)
   std::vector<uint32_t> evenCount;
+  // With evenSum: the residual's Welford statistics and the seen emission's even sum
+  // (FilmView::residualMean).
+  std::vector<vec3> residualMean, residualM2, evenEmissionSum;
 
   size_t PixelCount() const { return size_t(width) * height; }
 };

@@ -89,7 +89,8 @@ FilmView ReadOnlyView(const FilmState& f) {
   return FilmView{nullptr,           nullptr,         ReadOnly(f.mean),      ReadOnly(f.m2),
                   ReadOnly(f.lumMean), ReadOnly(f.lumM2), ReadOnly(f.count), ReadOnly(f.albedoSum),
                   ReadOnly(f.normalSum), ReadOnly(f.depthSum), ReadOnly(f.evenSum),
-                  ReadOnly(f.evenCount)};
+                  ReadOnly(f.evenCount), ReadOnly(f.residualMean), ReadOnly(f.residualM2),
+                  ReadOnly(f.evenEmissionSum)};
 }
 
 }  // namespace
@@ -114,13 +115,18 @@ FilmImage ResolveFilmImage(const FilmState& film) {
   if (halves) {
     img.evenRgb.assign(3 * n, 0.0f);
     img.evenSamples = film.evenCount;
+    for (std::vector<float>* v : {&img.emission, &img.evenEmission, &img.residualVariance})
+      v->assign(3 * n, 0.0f);
   }
   const FilmView view = ReadOnlyView(film);
   const ImageView out{img.rgb.data(),    img.variance.data(),
                       features ? img.albedo.data() : nullptr,
                       features ? img.normal.data() : nullptr,
                       features ? img.depth.data() : nullptr,
-                      halves ? img.evenRgb.data() : nullptr};
+                      halves ? img.evenRgb.data() : nullptr,
+                      halves ? img.emission.data() : nullptr,
+                      halves ? img.evenEmission.data() : nullptr,
+                      halves ? img.residualVariance.data() : nullptr};
   ForRangesOnThreads(n, 0, size_t(1) << 16, [&](size_t lo, size_t hi) {
     for (size_t i = lo; i < hi; ++i) ResolveFilmPixel(view, out, uint32_t(i));
   });

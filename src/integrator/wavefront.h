@@ -453,7 +453,7 @@ class WavefrontIntegrator {
   Buffer<PathHit> hit_;
   Buffer<uint32_t> hitInstance_;
   Buffer<uint32_t> prevNormal_;  // the light BVH sampler's receiver normals
-  Buffer<vec3> featureAlbedo_, featureNormal_;
+  Buffer<vec3> featureAlbedo_, featureNormal_, featureEmission_;
   Buffer<float> featureDepth_;
   PathState pathState_{};
   FilmBuffers<Backend> filmArrays_, snapshot_;  // the film; SnapshotFilm's copy

@@ -219,11 +219,13 @@ void WavefrontIntegrator<Backend>::AllocatePaths(size_t n) {
   featureAlbedo_.Resize(features);
   featureNormal_.Resize(features);
   featureDepth_.Resize(features);
+  featureEmission_.Resize(features);
   pathState_ = PathState{rayOrigin_.Data(),      rayDir_.Data(),        throughput_.Data(),
                          radiance_.Data(),       prevPdf_.Data(),       flags_.Data(),
                          hit_.Data(),            shadowOrigin_.Data(),  shadowDir_.Data(),
                          shadowTMax_.Data(),     shadowRadiance_.Data(), featureAlbedo_.Data(),
-                         featureNormal_.Data(),  featureDepth_.Data(),  hitInstance_.Data()};
+                         featureNormal_.Data(),  featureDepth_.Data(),  featureEmission_.Data(),
+                         hitInstance_.Data()};
   prevNormal_.Resize(lightSampler_ == LightSampler::kBvh ? n : 0);
   pathState_.prevNormal = prevNormal_.Data();
   stats_.pathsInFlight = n;

@@ -109,7 +109,9 @@ void WriteResumableExr(const std::string& path, const FilmImage& image, const Fi
       film.lumMean.size() != pixels || film.lumM2.size() != pixels ||
       (features && (film.normalSum.size() != pixels || film.depthSum.size() != pixels)) ||
       film.evenSum.size() != film.evenCount.size() ||
-      (!film.evenSum.empty() && film.evenSum.size() != pixels)) {
+      (!film.evenSum.empty() &&
+       (film.evenSum.size() != pixels || film.residualMean.size() != pixels ||
+        film.residualM2.size() != pixels || film.evenEmissionSum.size() != pixels))) {
     throw ImageError(path + ": internal: the film state does not match its image");
   }
   // The image as any --hdr EXR holds it; its "samples" channel is the film's counts.
@@ -126,6 +128,9 @@ void WriteResumableExr(const std::string& path, const FilmImage& image, const Fi
   if (!film.evenSum.empty()) {  // --denoise's half film
     AddVec3Channels("evenSum", film.evenSum, channels);
     channels.push_back(UintChannel("state.evenCount", film.evenCount));
+    AddVec3Channels("residualMean", film.residualMean, channels);
+    AddVec3Channels("residualM2", film.residualM2, channels);
+    AddVec3Channels("evenEmissionSum", film.evenEmissionSum, channels);
   }
   std::vector<ExrAttribute> attributes = {{kResumeAttribute, description},
                                           {kPrecisionAttribute, doubleFilm ? "double" : "float"}};
@@ -161,6 +166,12 @@ ResumableExr ReadResumableExr(const std::string& path) {
   if (reader.Has("state.evenCount")) {
     film.evenSum = reader.Vec3s("evenSum");
     film.evenCount = reader.Words("state.evenCount");
+    if (!reader.Has("state.residualMean.X"))  // kept since 2026-11-28 (docs/denoise.md)
+      throw ImageError(path + ": a --denoise state from before the film kept its seen "
+                              "emission (no state.residualMean channels); it cannot be resumed");
+    film.residualMean = reader.Vec3s("residualMean");
+    film.residualM2 = reader.Vec3s("residualM2");
+    film.evenEmissionSum = reader.Vec3s("evenEmissionSum");
   }
   return out;
 }

@@ -287,12 +287,13 @@ void LiveRender::EncodeLoop() {
                                settings_.jpegQuality);
       if (denoiseMs >= 0.0) {  // a re-encode keeps its frame's
         stats["denoise_ms"] = denoiseMs;
-        stats["denoise_variance"] = denoiser_->Settings().calibrateVariance ? "calibrated"
-                                                                            : "sample";
+        const DenoiseSettings& used = denoiser_->Settings();
+        stats["denoise_variance"] = used.calibrateVariance ? "calibrated" : "sample";
+        stats["denoise_emission"] = used.keepSeenEmission ? "keep" : "filter";
       }
       if (!denoised) {
-        stats.erase("denoise_ms");
-        stats.erase("denoise_variance");
+        for (const char* key : {"denoise_ms", "denoise_variance", "denoise_emission"})
+          stats.erase(key);
       }
     } catch (const std::exception& e) {
       std::fprintf(stderr, "pathtracer: serve: %s\n", e.what());

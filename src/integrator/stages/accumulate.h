@@ -1,7 +1,8 @@
 // Stage 7, accumulate: each pixel adds its finished samples of this wave to the film, in
 // sample order. Non-finite samples are counted and dropped (the non-finite firewall). With a
 // firefly clamp, a sample brighter than the clamp luminance is scaled down to it (hue kept):
-// biased, but it tames rare very bright paths.
+// biased, but it tames rare very bright paths. With the half films it also keeps each sample
+// less the emission its camera ray saw (film.h, FilmView::residualMean).
 #pragma once
 
 #include "src/integrator/film.h"
@@ -20,26 +21,40 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   vec3 m2 = film.mean ? film.m2[pixel] : vec3(0.0f);
   glm::dvec3 meanD = film.meanDouble ? film.meanDouble[pixel] : glm::dvec3(0.0);
   glm::dvec3 m2D = film.meanDouble ? film.m2Double[pixel] : glm::dvec3(0.0);
-  vec3 evenSum = film.evenSum ? film.evenSum[pixel] : vec3(0.0f);
-  uint32_t evenCount = film.evenSum ? film.evenCount[pixel] : 0u;
+  const bool halves = film.evenSum != nullptr;
+  vec3 evenSum = halves ? film.evenSum[pixel] : vec3(0.0f);
+  uint32_t evenCount = halves ? film.evenCount[pixel] : 0u;
+  vec3 residualMean = halves ? film.residualMean[pixel] : vec3(0.0f);
+  vec3 residualM2 = halves ? film.residualM2[pixel] : vec3(0.0f);
+  vec3 evenEmission = halves ? film.evenEmissionSum[pixel] : vec3(0.0f);
   uint32_t nonfinite = 0;
   for (uint32_t s = 0; s < wave.samplesInWave; ++s) {
     uint32_t id = s * wave.pixelCount + localPixel;
     vec3 l = ps.radiance[id];
+    // The emission its camera ray saw (the half films' residual is l less it).
+    vec3 e = halves && film.albedoSum ? ps.featureEmission[id] : vec3(0.0f);
     if (!IsFinite(l)) {
       ++nonfinite;
-      l = vec3(0.0f);
+      l = e = vec3(0.0f);
     }
+    if (!IsFinite(e)) e = vec3(0.0f);
     float y = Luminance(l);
-    if (clampLuminance > 0.0f && y > clampLuminance) l *= clampLuminance / y;
+    if (clampLuminance > 0.0f && y > clampLuminance) {
+      l *= clampLuminance / y;
+      e *= clampLuminance / y;
+    }
     ++n;
     if (film.meanDouble) WelfordAdd(meanD, m2D, glm::dvec3(l), double(n));
     else WelfordAdd(mean, m2, l, float(n));
     WelfordAdd(lumMean, lumM2, Luminance(l), float(n));
     // The half film of even sample indices (global ones: chunks and resumes agree).
-    if (film.evenSum && ((wave.sampleStart + s) & 1u) == 0u) {
-      evenSum += l;
-      ++evenCount;
+    if (halves) {
+      WelfordAdd(residualMean, residualM2, l - e, float(n));
+      if (((wave.sampleStart + s) & 1u) == 0u) {
+        evenSum += l;
+        evenEmission += e;
+        ++evenCount;
+      }
     }
     if (film.albedoSum) {
       film.albedoSum[pixel] += ps.featureAlbedo[id];
@@ -57,9 +72,12 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   film.lumMean[pixel] = lumMean;
   film.lumM2[pixel] = lumM2;
   film.sampleCount[pixel] = n;
-  if (film.evenSum) {
+  if (halves) {
     film.evenSum[pixel] = evenSum;
     film.evenCount[pixel] = evenCount;
+    film.residualMean[pixel] = residualMean;
+    film.residualM2[pixel] = residualM2;
+    film.evenEmissionSum[pixel] = evenEmission;
   }
   if (nonfinite && counters) AddToCounter(&counters[kCounterNonfinite], nonfinite);
 }

@@ -81,6 +81,7 @@ PT_HDI void ScatterInMedium(const SceneView& scene, const MediaView& mv,
   if (params.featureBuffers && depth == 0) {
     vec3 sigmaT = med.sigmaA + med.sigmaS;
     WriteFeatures(ps, id, med.sigmaS / glm::max(sigmaT, vec3(1e-30f)), vec3(0.0f), v.distance);
+    RecordSeenEmission(ps, id, true, vec3(0.0f));  // a medium's light is filtered
   }
   ps.hit[id] = PathHit{v.distance, kMediumVertex, vec2(0.0f)};
   ms.rHat[id] = v.rHat;
@@ -169,8 +170,10 @@ PT_HDI void SampleMediumPath(const SceneView& scene, const MediaView& mv,
       TrackResult r = DeltaTrack(mv, m, Ray{o, ray.d}, tSeg, hero, rng, &beta, &rHat,
                                  params.Counts(depth), &radiance);
       if (r.event == MediumEvent::kAbsorbed) {
-        if (params.featureBuffers && depth == 0)
+        if (params.featureBuffers && depth == 0) {
           WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), tBase + r.t);
+          RecordSeenEmission(ps, id, true, vec3(0.0f));
+        }
         TerminatePath(ps, id, flags, radiance);
         return;
       }
@@ -184,8 +187,10 @@ PT_HDI void SampleMediumPath(const SceneView& scene, const MediaView& mv,
     }
     if (!crossing) break;
     if (n >= kMaxInterfaceCrossings) {
-      if (params.featureBuffers && depth == 0)
+      if (params.featureBuffers && depth == 0) {
         WriteFeatures(ps, id, vec3(0.0f), vec3(0.0f), hit.t);
+        RecordSeenEmission(ps, id, true, vec3(0.0f));
+      }
       TerminatePath(ps, id, flags, radiance);
       return;
     }

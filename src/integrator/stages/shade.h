@@ -75,6 +75,15 @@ PT_HDI void WriteFeatures(PathState ps, uint32_t id, vec3 albedo, vec3 normal, f
   ps.featureDepth[id] = depth;
 }
 
+// The emission the camera ray's own hit (or escape) gives the path (with feature buffers, at
+// depth 0; a camera ray that scatters in a medium first sees none). It carries only the pixel
+// footprint's noise, and an emissive texture's detail is in no feature, so the denoiser
+// filters the rest and adds this back (docs/denoise.md). Not further along delta bounces: a
+// coat's or glass's random choice of lobe makes what they show noisy.
+PT_HDI void RecordSeenEmission(PathState ps, uint32_t id, bool camera, vec3 radiance) {
+  if (camera) ps.featureEmission[id] = radiance;
+}
+
 PT_HDI vec3 FeatureAlbedo(const Material& m) {
   switch (m.type) {
     case MaterialType::kDielectric: return vec3(1.0f);
@@ -249,6 +258,7 @@ PT_HDI void ShadeEscaped(const SceneView& scene, const IntegratorParams& params,
   } else if (params.Counts(v.depth)) {
     radiance += EscapedRadiance<kMap>(scene, params.kind, v.flags, v.prevPdf, v.ray.d, v.beta);
   }
+  RecordSeenEmission(ps, id, params.featureBuffers && v.depth == 0, radiance);
   TerminatePath(ps, id, v.flags, radiance);
 }
 
@@ -272,6 +282,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
                            ? LightPdf<kMap>(scene, si.light, from, si.p, si.ng) : 0.0f;
       v.radiance += v.beta * le * EmitterHitWeight(params.kind, v.flags, v.prevPdf, lightPdf);
     }
+    RecordSeenEmission(ps, id, params.featureBuffers && v.depth == 0, v.radiance);
     TerminatePath(ps, id, v.flags, v.radiance);
     return;
   }
@@ -280,6 +291,7 @@ PT_HDI void ShadeSurface(const SceneView& scene, const IntegratorParams& params,
       v.radiance += v.beta * SurfaceEmission(scene, params, si, mat, v.ray, v.flags, v.prevPdf,
                                              PrevVertexRef(scene, ps, id, v.flags, v.ray.o));
   }
+  RecordSeenEmission(ps, id, params.featureBuffers && v.depth == 0, v.radiance);
   if (int(v.depth) >= params.maxDepth) {
     TerminatePath(ps, id, v.flags, v.radiance);
     return;
