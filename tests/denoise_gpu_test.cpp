@@ -13,10 +13,10 @@
 namespace pt::test {
 namespace {
 
-void ExpectCpuGpuAgree(const FilmImage& img) {
+void ExpectCpuGpuAgree(const FilmImage& img, const DenoiseSettings& settings = {}) {
   FilmImage cpu = img, gpu = img;
-  MakeCpuDenoiser(2)->Denoise(cpu);
-  MakeCudaDenoiser(0)->Denoise(gpu);
+  MakeCpuDenoiser(2, settings)->Denoise(cpu);
+  MakeCudaDenoiser(0, settings)->Denoise(gpu);
   ASSERT_EQ(cpu.denoised.size(), gpu.denoised.size());
   double worst = 0.0;
   for (size_t i = 0; i < cpu.denoised.size(); ++i) {
@@ -53,7 +53,11 @@ TEST(DenoiseGpu, RenderedFilmMatchesTheCpu) {
   Scene scene = BuildScene(std::move(d));
   RenderOptions o;
   o.featureBuffers = o.halfFilms = true;
-  ExpectCpuGpuAgree(RenderOnCpu(scene, o).image);
+  FilmImage film = RenderOnCpu(scene, o).image;
+  ExpectCpuGpuAgree(film);
+  DenoiseSettings keep;  // the residual filtered, the seen emission (the light) added back
+  keep.keepSeenEmission = true;
+  ExpectCpuGpuAgree(film, keep);
 }
 
 }  // namespace

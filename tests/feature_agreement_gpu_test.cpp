@@ -87,6 +87,30 @@ TEST(FeatureAgreementGpu, FeatureBuffersMatchTheCpu) {
   EXPECT_NEAR(gd, cd, 0.01 * cd);
 }
 
+// With half films (--denoise) the GPU's film holds the seen emission's means and the
+// residual's variance as the CPU's does: the same camera jitter, so the emission (the light
+// and what the mirror shows of it is not in it: depth 0 only) agrees to 1% over the image, and
+// the residual's variance, of the paths themselves, to 5%.
+TEST(FeatureAgreementGpu, HalfFilmsMatchTheCpu) {
+  if (!HaveGpu()) GTEST_SKIP() << "no CUDA GPU here";
+  Scene scene = CornellSmall(4, 16);
+  RenderOptions opt;
+  opt.featureBuffers = opt.halfFilms = true;
+  FilmImage cpu = RenderOnCpu(scene, opt).image, gpu = RenderCuda(scene, opt).image;
+  auto sum = [](const std::vector<float>& v) {
+    double s = 0.0;
+    for (float x : v) s += x;
+    return s;
+  };
+  ASSERT_EQ(gpu.emission.size(), cpu.rgb.size());
+  ASSERT_EQ(gpu.residualVariance.size(), cpu.rgb.size());
+  EXPECT_GT(sum(cpu.emission), 0.0);  // the camera sees the light
+  EXPECT_NEAR(sum(gpu.emission), sum(cpu.emission), 0.01 * sum(cpu.emission));
+  EXPECT_NEAR(sum(gpu.evenEmission), sum(cpu.evenEmission), 0.01 * sum(cpu.evenEmission));
+  EXPECT_NEAR(sum(gpu.residualVariance), sum(cpu.residualVariance),
+              0.05 * sum(cpu.residualVariance));
+}
+
 // Spot (inside, between and outside its cones) and directional lights over a diffuse floor
 // with a box casting shadows and bouncing light: the GPU's image agrees with the CPU's.
 TEST(FeatureAgreementGpu, SpotAndDirectionalLightsMatchTheCpu) {
