@@ -73,8 +73,9 @@ TEST(DenoiseServe, TheToggleIsPushedAndSaved) {
 }
 
 // The variance rule follows the page's sampler flag as the CLI's default does (sample variance
-// for independent samples, calibrated for Sobol), and so does the seen emission's (filtered or
-// kept out): each frame names the ones it was denoised with.
+// for independent samples, calibrated for Sobol), and so does whatever else the per-sampler
+// table sets (here the seen emission kept out for Sobol): each frame names what it was
+// denoised with.
 TEST(DenoiseServe, TheVarianceRuleFollowsTheSamplerFlag) {
   std::unique_ptr<LiveRender> live = LiveBox(true, [](SamplerKind sampler) {
     DenoiseSettings s;

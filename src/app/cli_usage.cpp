@@ -30,8 +30,8 @@ Outputs
                            needs, its default), or the sample variance as it is (the
                            default for independent samples)
   --denoise-emission keep|filter  the emission camera rays see directly: kept out of the
-                           filter and added back (--sampler sobol's default), or filtered
-                           with the rest (the default for independent samples)
+                           filter and added back (an emissive texture keeps its detail), or
+                           filtered with the rest (default)
 
 Image and sampling
   --spp N                  samples per pixel

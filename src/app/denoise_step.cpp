@@ -16,9 +16,9 @@ DenoiseSettings DenoiseSettingsFor(const CliOptions& cli, SamplerKind sampler) {
   // better at 16 spp; for Sobol samples it overstates the noise and blurs detail.
   settings.calibrateVariance =
       cli.denoiseCalibrate.value_or(sampler != SamplerKind::kIndependent);
-  // Measured too: keeping the seen emission out helps stratified samples only.
-  settings.keepSeenEmission =
-      cli.denoiseKeepEmission.value_or(sampler != SamplerKind::kIndependent);
+  // Measured too: keeping the seen emission out helped crops of Sobol renders but not the
+  // whole 1080p images (a bright light's edge keeps its footprint noise), so it is asked for.
+  settings.keepSeenEmission = cli.denoiseKeepEmission.value_or(false);
   return settings;
 }
 

@@ -142,8 +142,8 @@ int Serve(const CliOptions& cli, const AppBackends& backends) {
                                                                : backends.cpuDenoiser;
   if (makeDenoiser) {
     int where = backend == BackendKind::kCuda ? settings.options.device : cli.threads;
-    // The page's sampler flag changes the variance rule and the seen emission's as --sampler
-    // does (unless --denoise-variance or --denoise-emission fixed them).
+    // The page's sampler flag changes the variance rule as --sampler does (unless
+    // --denoise-variance fixed it).
     DenoiseSettings independent = DenoiseSettingsFor(cli, SamplerKind::kIndependent);
     DenoiseSettings sobol = DenoiseSettingsFor(cli, SamplerKind::kSobol);
     settings.denoiseSettings = [independent, sobol](SamplerKind sampler) {

@@ -31,10 +31,10 @@ struct DenoiseSettings {
   // noise. The app turns it on for Sobol samples (src/app/denoise_step.cpp).
   bool calibrateVariance = false;
   // The emission camera rays see directly (FilmImage::emission) kept out of the filter and
-  // added back: its only noise is the pixel footprint's, little under stratified samples,
-  // and an emissive texture's detail is in no feature. Under independent samples that
-  // footprint noise is large and filtering it with the rest measured better, so the app
-  // turns it on for Sobol samples (src/app/denoise_step.cpp; docs/denoise.md).
+  // added back: its only noise is the pixel footprint's, and an emissive texture's detail is
+  // in no feature. Where that footprint noise is large (independent samples; a bright
+  // light's edge even under Sobol samples) filtering it with the rest measured better, so it
+  // is off unless asked for (--denoise-emission keep; docs/denoise.md).
   bool keepSeenEmission = false;
 };
 

@@ -356,9 +356,15 @@ class WavefrontIntegrator {
     FilmView film = film_;
     Counter* counters = counters_.Data();
     float clamp = params_.clampLuminance;
-    backend_.ParallelFor(Stage::kAccumulate, wave.pixelCount, [=] PT_HD(uint32_t i) {
-      AccumulatePixel(wave, ps, film, i, counters, clamp);
-    });
+    if (film.evenSum) {
+      backend_.ParallelFor(Stage::kAccumulate, wave.pixelCount, [=] PT_HD(uint32_t i) {
+        AccumulatePixel<true>(wave, ps, film, i, counters, clamp);
+      });
+    } else {
+      backend_.ParallelFor(Stage::kAccumulate, wave.pixelCount, [=] PT_HD(uint32_t i) {
+        AccumulatePixel<false>(wave, ps, film, i, counters, clamp);
+      });
+    }
   }
 
   // The film as an image: mean and per-channel sample variance per pixel, resolved on the

@@ -11,6 +11,10 @@
 
 namespace pt {
 
+// kHalves: the film keeps the half films (film.evenSum), a compile-time choice so that a
+// render without them runs none of their code (their residual statistics cost ~25% of the
+// stage when tested at run time).
+template <bool kHalves>
 PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
                             uint32_t localPixel, Counter* counters,
                             float clampLuminance = 0.0f) {
@@ -21,7 +25,7 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   vec3 m2 = film.mean ? film.m2[pixel] : vec3(0.0f);
   glm::dvec3 meanD = film.meanDouble ? film.meanDouble[pixel] : glm::dvec3(0.0);
   glm::dvec3 m2D = film.meanDouble ? film.m2Double[pixel] : glm::dvec3(0.0);
-  const bool halves = film.evenSum != nullptr;
+  constexpr bool halves = kHalves;
   vec3 evenSum = halves ? film.evenSum[pixel] : vec3(0.0f);
   uint32_t evenCount = halves ? film.evenCount[pixel] : 0u;
   vec3 residualMean = halves ? film.residualMean[pixel] : vec3(0.0f);
@@ -48,7 +52,7 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
     else WelfordAdd(mean, m2, l, float(n));
     WelfordAdd(lumMean, lumM2, Luminance(l), float(n));
     // The half film of even sample indices (global ones: chunks and resumes agree).
-    if (halves) {
+    if constexpr (halves) {
       WelfordAdd(residualMean, residualM2, l - e, float(n));
       if (((wave.sampleStart + s) & 1u) == 0u) {
         evenSum += l;
@@ -72,7 +76,7 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   film.lumMean[pixel] = lumMean;
   film.lumM2[pixel] = lumM2;
   film.sampleCount[pixel] = n;
-  if (halves) {
+  if constexpr (halves) {
     film.evenSum[pixel] = evenSum;
     film.evenCount[pixel] = evenCount;
     film.residualMean[pixel] = residualMean;
