@@ -81,28 +81,33 @@ TEST(DenoiseCli, RadiusOptionSetsTheSearchWindow) {
   }
 }
 
-// --denoise-variance reaches the denoiser; without it the variance is the sample variance for
-// independent samples and calibrated for Sobol samples (--sampler or the scene's).
-TEST(DenoiseCli, VarianceOptionReachesTheDenoiser) {
+// A two-valued denoiser option reaches the denoiser: per sampler, the image of its default
+// value is the image without the option, and the other value's differs.
+void ExpectOptionDefaults(const std::string& option, const std::string& independentDefault,
+                          const std::string& sobolDefault, const std::string& other) {
   TinyDenoised image;
-  std::string byDefault = image("", "default.pfm");
-  EXPECT_EQ(image(" --denoise-variance sample", "sample.pfm"), byDefault);
-  EXPECT_NE(image(" --denoise-variance=calibrated", "calibrated.pfm"), byDefault);
-  std::string sobol = image(" --sampler sobol", "sobol.pfm");
-  EXPECT_EQ(image(" --sampler sobol --denoise-variance calibrated", "sobol_c.pfm"), sobol);
-  EXPECT_NE(image(" --sampler sobol --denoise-variance sample", "sobol_s.pfm"), sobol);
+  for (const std::string& sampler : {std::string("independent"), std::string("sobol")}) {
+    const std::string& byDefault = sampler == "sobol" ? sobolDefault : independentDefault;
+    const std::string& notDefault = byDefault == other ? independentDefault : other;
+    std::string base = " --sampler " + sampler;
+    std::string plain = image(base, sampler + ".pfm");
+    EXPECT_EQ(image(base + " " + option + " " + byDefault, sampler + "_d.pfm"), plain)
+        << option << " " << byDefault << " with " << sampler;
+    EXPECT_NE(image(base + " " + option + "=" + notDefault, sampler + "_o.pfm"), plain)
+        << option << " " << notDefault << " with " << sampler;
+  }
 }
 
-// --denoise-emission reaches the denoiser: by default the seen emission (here the background)
-// is filtered with the rest, whatever the sampler; `keep` keeps it out.
+// --denoise-variance: the sample variance for independent samples, calibrated for Sobol ones
+// (--sampler or the scene's).
+TEST(DenoiseCli, VarianceOptionReachesTheDenoiser) {
+  ExpectOptionDefaults("--denoise-variance", "sample", "calibrated", "calibrated");
+}
+
+// --denoise-emission: the seen emission (here the background) filtered with the rest whatever
+// the sampler; `keep` keeps it out.
 TEST(DenoiseCli, EmissionOptionReachesTheDenoiser) {
-  TinyDenoised image;
-  std::string byDefault = image("", "default.pfm");
-  EXPECT_EQ(image(" --denoise-emission filter", "filter.pfm"), byDefault);
-  EXPECT_NE(image(" --denoise-emission=keep", "keep.pfm"), byDefault);
-  std::string sobol = image(" --sampler sobol", "sobol.pfm");
-  EXPECT_EQ(image(" --sampler sobol --denoise-emission filter", "sobol_f.pfm"), sobol);
-  EXPECT_NE(image(" --sampler sobol --denoise-emission keep", "sobol_k.pfm"), sobol);
+  ExpectOptionDefaults("--denoise-emission", "filter", "filter", "keep");
 }
 
 TEST(DenoiseCli, ResumingAFilmWithoutHalvesIsRefused) {
