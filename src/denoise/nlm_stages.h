@@ -418,10 +418,6 @@ PT_HDI void DenoiseFinishPixel(const DenoisePlanes& d, int count, int radius, fl
   DenoiseChoosePixel(d, count, e, p, out + 3 * size_t(i));
 }
 
-}  // namespace pt
-
-namespace pt {
-
 // Pass 8, per float of the output (with FilmImage::emission only): the emission the camera
 // rays saw added back to the filtered residual, as the film holds it.
 PT_HDI void DenoiseAddEmissionPixel(float* out, const float* emission, uint32_t i) {

@@ -55,8 +55,8 @@ struct PathState {
   vec3* featureAlbedo;
   vec3* featureNormal;
   float* featureDepth;
-  // What the path gathered up to its feature vertex (the emission the camera sees there,
-  // directly or through delta bounces): the denoiser keeps it out of what it filters.
+  // The emission the camera ray's own hit or escape gave the path (RecordSeenEmission, shade.h):
+  // the denoiser can keep it out of what it filters (--denoise-emission keep).
   vec3* featureEmission;
   // The hit's instance; allocated, written and read only in scenes with instances.
   uint32_t* hitInstance;

@@ -25,18 +25,17 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   vec3 m2 = film.mean ? film.m2[pixel] : vec3(0.0f);
   glm::dvec3 meanD = film.meanDouble ? film.meanDouble[pixel] : glm::dvec3(0.0);
   glm::dvec3 m2D = film.meanDouble ? film.m2Double[pixel] : glm::dvec3(0.0);
-  constexpr bool halves = kHalves;
-  vec3 evenSum = halves ? film.evenSum[pixel] : vec3(0.0f);
-  uint32_t evenCount = halves ? film.evenCount[pixel] : 0u;
-  vec3 residualMean = halves ? film.residualMean[pixel] : vec3(0.0f);
-  vec3 residualM2 = halves ? film.residualM2[pixel] : vec3(0.0f);
-  vec3 evenEmission = halves ? film.evenEmissionSum[pixel] : vec3(0.0f);
+  vec3 evenSum = kHalves ? film.evenSum[pixel] : vec3(0.0f);
+  uint32_t evenCount = kHalves ? film.evenCount[pixel] : 0u;
+  vec3 residualMean = kHalves ? film.residualMean[pixel] : vec3(0.0f);
+  vec3 residualM2 = kHalves ? film.residualM2[pixel] : vec3(0.0f);
+  vec3 evenEmission = kHalves ? film.evenEmissionSum[pixel] : vec3(0.0f);
   uint32_t nonfinite = 0;
   for (uint32_t s = 0; s < wave.samplesInWave; ++s) {
     uint32_t id = s * wave.pixelCount + localPixel;
     vec3 l = ps.radiance[id];
     // The emission its camera ray saw (the half films' residual is l less it).
-    vec3 e = halves && film.albedoSum ? ps.featureEmission[id] : vec3(0.0f);
+    vec3 e = kHalves && film.albedoSum ? ps.featureEmission[id] : vec3(0.0f);
     if (!IsFinite(l)) {
       ++nonfinite;
       l = e = vec3(0.0f);
@@ -52,7 +51,7 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
     else WelfordAdd(mean, m2, l, float(n));
     WelfordAdd(lumMean, lumM2, Luminance(l), float(n));
     // The half film of even sample indices (global ones: chunks and resumes agree).
-    if constexpr (halves) {
+    if constexpr (kHalves) {
       WelfordAdd(residualMean, residualM2, l - e, float(n));
       if (((wave.sampleStart + s) & 1u) == 0u) {
         evenSum += l;
@@ -76,7 +75,7 @@ PT_HDI void AccumulatePixel(const WaveInfo& wave, PathState ps, FilmView film,
   film.lumMean[pixel] = lumMean;
   film.lumM2[pixel] = lumM2;
   film.sampleCount[pixel] = n;
-  if constexpr (halves) {
+  if constexpr (kHalves) {
     film.evenSum[pixel] = evenSum;
     film.evenCount[pixel] = evenCount;
     film.residualMean[pixel] = residualMean;
